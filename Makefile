@@ -1,0 +1,54 @@
+# wingcrack: `make demo` and `make test` set everything up themselves on a
+# bare Debian 12 machine (apt packages, venv, C++ build) and then run.
+SHELL := /bin/bash
+VENV := .venv
+PY := $(VENV)/bin/python
+# Debian's cmake/python come first: DOLFINx lives in Debian's python3.
+export PATH := $(CURDIR)/$(VENV)/bin:/usr/bin:/bin:$(PATH)
+export OMP_NUM_THREADS ?= 1
+
+APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
+  libgtest-dev googletest python3-scipy python3-matplotlib python3-meshio \
+  python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build
+KERNEL_FILES := $(wildcard cpp_kernels/*/*.cpp cpp_kernels/include/wingcrack/*.hpp) CMakeLists.txt pyproject.toml
+STAMP := $(VENV)/.wingcrack-installed
+
+.PHONY: setup apt venv demo test test-cpp test-py bench clean
+
+setup: apt $(STAMP)
+
+apt:
+	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:" $$missing; \
+	  SUDO=$$( [ $$(id -u) -eq 0 ] || echo sudo ); \
+	  $$SUDO apt-get update -q && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q --no-install-recommends $$missing; \
+	fi
+
+$(PY):
+	/usr/bin/python3 -m venv --system-site-packages $(VENV)
+
+$(STAMP): $(PY) $(KERNEL_FILES) requirements-dev.txt constraints.txt
+	$(PY) -m pip install -q -c constraints.txt -r requirements-dev.txt
+	$(PY) -m pip install -q --no-build-isolation --no-deps -c constraints.txt -e .
+	$(PY) -c "import numpy, dolfinx, wingcrack._kernels; assert numpy.__version__.startswith('1.24'), numpy.__version__"
+	touch $@
+
+demo: setup
+	$(VENV)/bin/wingcrack sif cases/brazilian_disc_45.toml -o results/brazilian_disc_45
+
+test: setup test-cpp test-py
+
+test-cpp: apt
+	cmake -S . -B build/cpp -G Ninja -DWINGCRACK_PYTHON=OFF -DWINGCRACK_TESTS=ON -DCMAKE_BUILD_TYPE=Release > /dev/null
+	cmake --build build/cpp
+	cd build/cpp && ctest --output-on-failure
+
+test-py: setup
+	$(PY) -m pytest -q
+
+bench: setup
+	$(PY) benchmarks/run.py
+
+clean:
+	rm -rf build results

@@ -1,0 +1,2 @@
+#pragma once
+namespace wingcrack { const char* kernels_version(); }

@@ -1,0 +1,1 @@
+"""Conforming second-order crack meshes with gmsh (no DOLFINx here)."""
