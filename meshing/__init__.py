@@ -1,1 +1,10 @@
-"""Conforming second-order crack meshes with gmsh (no DOLFINx here)."""
+"""Conforming second-order crack meshes with gmsh (no DOLFINx here).
+
+`Domain` (meshing/domain.py) is pure numpy; `crack_mesh` (meshing/crack_mesh.py)
+builds a CrackMesh with gmsh and the wingcrack._kernels face kernels.
+"""
+
+from meshing.crack_mesh import CrackMesh, TipNodes, crack_mesh
+from meshing.domain import Domain
+
+__all__ = ["Domain", "crack_mesh", "CrackMesh", "TipNodes"]

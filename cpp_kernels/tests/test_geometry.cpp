@@ -1,0 +1,230 @@
+// Polyline geometry: tip frames (the contract of docs/architecture.md),
+// segment intersection in every configuration, distances.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "wingcrack/geometry.hpp"
+
+using namespace wingcrack;
+
+namespace {
+
+Points2 poly(std::initializer_list<std::pair<double, double>> xy) {
+  Points2 p(static_cast<Eigen::Index>(xy.size()), 2);
+  Eigen::Index i = 0;
+  for (const auto& [x, y] : xy) p.row(i++) << x, y;
+  return p;
+}
+
+// Hit, point and the swapped parameters must not depend on which segment is
+// first; the formulas are exactly antisymmetric, so equality is exact.
+SegmentHit both_orders(const Point2& p0, const Point2& p1, const Point2& q0, const Point2& q1, double tol = 1e-12) {
+  const SegmentHit a = segment_intersection(p0, p1, q0, q1, tol);
+  const SegmentHit b = segment_intersection(q0, q1, p0, p1, tol);
+  EXPECT_EQ(a.hit, b.hit);
+  EXPECT_EQ(a.t, b.s);
+  EXPECT_EQ(a.s, b.t);
+  EXPECT_EQ(a.point, b.point);
+  EXPECT_TRUE(a.point.allFinite());
+  EXPECT_GE(a.t, 0.0);
+  EXPECT_LE(a.t, 1.0);
+  EXPECT_GE(a.s, 0.0);
+  EXPECT_LE(a.s, 1.0);
+  return a;
+}
+
+void expect_point(const Point2& a, const Point2& b, double tol = 1e-15) { EXPECT_LT((a - b).norm(), tol) << a.transpose(); }
+
+}  // namespace
+
+TEST(TipFrame, ContractOrientation) {
+  const Points2 p = poly({{0, 0}, {1, 0}, {1, 1}});
+  const TipFrame f1 = tip_frame(p, 1);
+  expect_point(f1.origin, Point2(1, 1));
+  expect_point(f1.ex, Point2(0, 1));   // along the last segment
+  expect_point(f1.ey, Point2(-1, 0));  // ex rotated +90 deg
+  const TipFrame f0 = tip_frame(p, 0);
+  expect_point(f0.origin, Point2(0, 0));
+  expect_point(f0.ex, Point2(-1, 0));  // -d of the first segment
+  expect_point(f0.ey, Point2(0, -1));
+}
+
+TEST(TipFrame, OrthonormalRightHandedOnRandomPolylines) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-10.0, 10.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    Points2 p(4, 2);
+    for (int i = 0; i < 4; ++i) p.row(i) << U(rng), U(rng);
+    for (const int end : {0, 1}) {
+      const TipFrame f = tip_frame(p, end);
+      EXPECT_NEAR(f.ex.norm(), 1.0, 1e-15);
+      EXPECT_NEAR(f.ey.norm(), 1.0, 1e-15);
+      EXPECT_NEAR(f.ex.dot(f.ey), 0.0, 1e-15);
+      EXPECT_NEAR(f.ex.x() * f.ey.y() - f.ex.y() * f.ey.x(), 1.0, 1e-15);
+      // x' points away from the neighbouring point, out of the crack.
+      const Point2 behind = p.row(end == 1 ? 2 : 1).transpose();
+      EXPECT_LT((behind - f.origin).dot(f.ex), 0.0);
+    }
+  }
+}
+
+TEST(TipFrame, RejectsDegenerateInput) {
+  EXPECT_THROW(tip_frame(poly({{0, 0}}), 1), std::invalid_argument);
+  EXPECT_THROW(tip_frame(poly({{0, 0}, {1, 0}}), 2), std::invalid_argument);
+  EXPECT_THROW(tip_frame(poly({{0, 0}, {1, 0}, {1, 0}}), 1), std::invalid_argument);
+  EXPECT_NO_THROW(tip_frame(poly({{0, 0}, {1, 0}, {1, 0}}), 0));
+}
+
+TEST(SegmentIntersection, Crossing) {
+  const SegmentHit h = both_orders({0, 0}, {2, 2}, {0, 2}, {2, 0});
+  EXPECT_TRUE(h.hit);
+  EXPECT_DOUBLE_EQ(h.t, 0.5);
+  EXPECT_DOUBLE_EQ(h.s, 0.5);
+  expect_point(h.point, Point2(1, 1));
+  // Reversing a segment maps t to 1 - t.
+  const SegmentHit r = both_orders({2, 2}, {0, 0}, {0, 2}, {2, 0});
+  EXPECT_TRUE(r.hit);
+  EXPECT_NEAR(r.t, 0.5, 1e-15);
+  const SegmentHit g = both_orders({0, 0}, {4, 1}, {1, -1}, {2, 3});
+  EXPECT_TRUE(g.hit);
+  expect_point(g.point, Point2(0, 0) + g.t * Point2(4, 1), 1e-14);
+  expect_point(g.point, Point2(1, -1) + g.s * Point2(1, 4), 1e-14);
+}
+
+TEST(SegmentIntersection, TouchingAtAnEndAndT) {
+  const SegmentHit v = both_orders({0, 0}, {1, 0}, {1, 0}, {2, 3});  // V: shared end
+  EXPECT_TRUE(v.hit);
+  EXPECT_EQ(v.t, 1.0);
+  EXPECT_EQ(v.s, 0.0);
+  expect_point(v.point, Point2(1, 0));
+  const SegmentHit t = both_orders({0, 0}, {2, 0}, {1, 0}, {1, 1});  // T: end on the interior
+  EXPECT_TRUE(t.hit);
+  EXPECT_DOUBLE_EQ(t.t, 0.5);
+  EXPECT_EQ(t.s, 0.0);
+  expect_point(t.point, Point2(1, 0));
+  // A gap of 1e-3 on segments of length 2: a miss at tol 1e-12, a touch at
+  // tol 1e-3 (eps = tol * 2 = 2e-3 >= gap), the touch point half-way.
+  EXPECT_FALSE(both_orders({0, 0}, {2, 0}, {1, 1e-3}, {1, 1}).hit);
+  const SegmentHit near = both_orders({0, 0}, {2, 0}, {1, 1e-3}, {1, 1}, 1e-3);
+  EXPECT_TRUE(near.hit);
+  expect_point(near.point, Point2(1, 0.5e-3));
+}
+
+TEST(SegmentIntersection, CollinearOverlapIsAHit) {
+  const SegmentHit o = both_orders({0, 0}, {2, 0}, {1, 0}, {3, 0});
+  EXPECT_TRUE(o.hit);
+  expect_point(o.point, Point2(1.5, 0));  // middle of the shared stretch [1, 2]
+  EXPECT_DOUBLE_EQ(o.t, 0.75);
+  EXPECT_DOUBLE_EQ(o.s, 0.25);
+  const SegmentHit in = both_orders({0, 0}, {2, 0}, {1, 0}, {0.5, 0});  // contained, reversed
+  EXPECT_TRUE(in.hit);
+  expect_point(in.point, Point2(0.75, 0));
+  const SegmentHit end = both_orders({0, 0}, {1, 0}, {1, 0}, {2, 0});  // end to end
+  EXPECT_TRUE(end.hit);
+  expect_point(end.point, Point2(1, 0));
+  EXPECT_FALSE(both_orders({0, 0}, {1, 0}, {1.5, 0}, {3, 0}).hit);  // collinear, apart
+  // Same on a slanted line whose points are not representable exactly.
+  const Point2 d(0.1, 0.3);
+  EXPECT_TRUE(both_orders(Point2(0.7, 0.2), Point2(0.7, 0.2) + 3 * d, Point2(0.7, 0.2) + 2 * d, Point2(0.7, 0.2) + 7 * d).hit);
+  EXPECT_FALSE(both_orders(Point2(0.7, 0.2), Point2(0.7, 0.2) + 3 * d, Point2(0.7, 0.2) + 4 * d, Point2(0.7, 0.2) + 7 * d).hit);
+}
+
+TEST(SegmentIntersection, ParallelDisjoint) {
+  EXPECT_FALSE(both_orders({0, 0}, {2, 0}, {0, 1e-6}, {2, 1e-6}).hit);
+  EXPECT_TRUE(both_orders({0, 0}, {2, 0}, {0, 1e-6}, {2, 1e-6}, 1e-6).hit);  // eps = 2e-6
+  EXPECT_FALSE(both_orders({0, 0}, {2, 0}, {0, 1}, {2, 1}).hit);
+}
+
+TEST(SegmentIntersection, ZeroLengthSegmentsAreNaNFree) {
+  EXPECT_TRUE(both_orders({1, 0}, {1, 0}, {0, 0}, {2, 0}).hit);
+  const SegmentHit miss = both_orders({1, 1}, {1, 1}, {0, 0}, {2, 0});
+  EXPECT_FALSE(miss.hit);
+  EXPECT_TRUE(std::isfinite(miss.t) && std::isfinite(miss.s));
+  EXPECT_TRUE(both_orders({1, 1}, {1, 1}, {1, 1}, {1, 1}).hit);
+  EXPECT_FALSE(both_orders({1, 1}, {1, 1}, {1, 2}, {1, 2}).hit);
+}
+
+TEST(SegmentIntersection, ScaleInvariantTolerance) {
+  // tol is relative to the segment length: the verdicts are the same for a
+  // configuration in micrometres and in kilometres.
+  for (const double L : {1e-6, 1.0, 1e3}) {
+    EXPECT_TRUE(both_orders(Point2(0, 0), L * Point2(2, 0), L * Point2(1, 1e-7), L * Point2(1, 1), 1e-7).hit);
+    EXPECT_FALSE(both_orders(Point2(0, 0), L * Point2(2, 0), L * Point2(1, 1e-6), L * Point2(1, 1), 1e-7).hit);
+    EXPECT_TRUE(both_orders(Point2(0, 0), L * Point2(2, 2), L * Point2(0, 2), L * Point2(2, 0)).hit);
+  }
+}
+
+TEST(SegmentIntersection, RandomSymmetryAndConsistency) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int hits = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Point2 p0(U(rng), U(rng)), p1(U(rng), U(rng)), q0(U(rng), U(rng)), q1(U(rng), U(rng));
+    const SegmentHit h = both_orders(p0, p1, q0, q1);
+    // A reported crossing lies on both segments at its parameters.
+    if (h.hit) {
+      ++hits;
+      expect_point(h.point, p0 + h.t * (p1 - p0), 1e-12);
+      expect_point(h.point, q0 + h.s * (q1 - q0), 1e-12);
+    }
+    // Reversing a segment changes no verdict.
+    EXPECT_EQ(h.hit, segment_intersection(p1, p0, q0, q1).hit);
+    EXPECT_EQ(h.hit, segment_intersection(p0, p1, q1, q0).hit);
+  }
+  EXPECT_GT(hits, 500);
+}
+
+TEST(Distance, PointSegment) {
+  SegmentDistance d = point_segment_distance({1, 1}, {0, 0}, {2, 0});
+  EXPECT_DOUBLE_EQ(d.distance, 1.0);
+  EXPECT_DOUBLE_EQ(d.t, 0.5);
+  d = point_segment_distance({3, 4}, {0, 0}, {2, 0});
+  EXPECT_DOUBLE_EQ(d.distance, std::sqrt(17.0));
+  EXPECT_EQ(d.t, 1.0);
+  d = point_segment_distance({-3, 4}, {0, 0}, {2, 0});
+  EXPECT_DOUBLE_EQ(d.distance, 5.0);
+  EXPECT_EQ(d.t, 0.0);
+  d = point_segment_distance({3, 4}, {0, 0}, {0, 0});  // zero length
+  EXPECT_DOUBLE_EQ(d.distance, 5.0);
+  EXPECT_EQ(d.t, 0.0);
+}
+
+TEST(Distance, PolylineAndLength) {
+  const Points2 p = poly({{0, 0}, {3, 0}, {3, 4}});
+  EXPECT_DOUBLE_EQ(polyline_length(p), 7.0);
+  EXPECT_DOUBLE_EQ(polyline_length(poly({{1, 1}})), 0.0);
+  const PolylineDistance c = closest_point_on_polyline({4, 3}, p);
+  EXPECT_DOUBLE_EQ(c.distance, 1.0);
+  EXPECT_EQ(c.segment, 1);
+  EXPECT_DOUBLE_EQ(c.t, 0.75);
+  expect_point(c.point, Point2(3, 3));
+  EXPECT_DOUBLE_EQ(point_polyline_distance({1, -2}, p), 2.0);
+  EXPECT_DOUBLE_EQ(point_polyline_distance({0, 0}, p), 0.0);
+  EXPECT_DOUBLE_EQ(point_polyline_distance({4, 4}, poly({{1, 0}})), 5.0);  // a single point
+  EXPECT_THROW(point_polyline_distance({0, 0}, Points2(0, 2)), std::invalid_argument);
+}
+
+TEST(Polyline, SelfIntersection) {
+  EXPECT_FALSE(polyline_self_intersects(poly({{0, 0}, {1, 0}})));
+  EXPECT_FALSE(polyline_self_intersects(poly({{0, 0}, {1, 0}, {2, 1}, {3, 0}})));      // zigzag
+  EXPECT_FALSE(polyline_self_intersects(poly({{0, 0}, {1, 0}, {0, 0.1}})));            // sharp turn
+  EXPECT_TRUE(polyline_self_intersects(poly({{0, 0}, {2, 0}, {2, 1}, {1, -1}})));      // crossing
+  EXPECT_TRUE(polyline_self_intersects(poly({{0, 0}, {2, 0}, {2, 1}, {1, 0}})));       // T-touch
+  EXPECT_TRUE(polyline_self_intersects(poly({{0, 0}, {2, 0}, {1, 0}})));               // folds back
+  EXPECT_TRUE(polyline_self_intersects(poly({{0, 0}, {1, 0}, {1, 0}, {2, 1}})));       // zero-length segment
+  EXPECT_TRUE(polyline_self_intersects(poly({{0, 0}, {1, 0}, {1, 1}, {0, 0}})));       // closed loop
+  EXPECT_FALSE(polyline_self_intersects(poly({{0, 0}, {2, 0}, {2, 1}, {1, 1e-3}})));   // near miss
+  EXPECT_TRUE(polyline_self_intersects(poly({{0, 0}, {2, 0}, {2, 1}, {1, 1e-3}}), 1e-3));
+}
+
+TEST(Polyline, TwoPolylines) {
+  const Points2 a = poly({{0, 0}, {1, 0}, {1, 1}});
+  EXPECT_TRUE(polylines_intersect(a, poly({{2, 0}, {0.5, 0.5}})));
+  EXPECT_TRUE(polylines_intersect(poly({{2, 0}, {0.5, 0.5}}), a));
+  EXPECT_FALSE(polylines_intersect(a, poly({{2, 0}, {3, 1}, {2, 2}})));
+  EXPECT_TRUE(polylines_intersect(a, poly({{1, 0.5}, {3, 0.5}})));  // T-touch
+  EXPECT_TRUE(polylines_intersect(a, poly({{0.5, 0}})));            // a point on a
+}

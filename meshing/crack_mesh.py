@@ -1,0 +1,502 @@
+"""Conforming P2 crack meshes: gmsh geometry, tip rosettes, split faces, quarter points.
+
+One call builds the whole mesh of one step (paper sections 3.1-3.3):
+
+1. the outer boundary, split at every bc point and every edge-crack mouth, so
+   that each becomes a mesh node;
+2. around every crack tip a structured rosette of `sectors` straight triangles
+   of radius `tip_size` (one spoke along the crack), the rest unstructured,
+   graded from ~`tip_size` at the tips to `size` away from the fractures;
+3. second order (mid nodes on the disc rim lie on the circle);
+4. the crack faces split apart (`wingcrack._kernels.split_faces`): each node on
+   a crack face gets one copy per side, and the copies are paired for contact;
+5. the mid nodes of the edges at each tip moved to the quarter points.
+
+Lengths in metres. Node order in cells is gmsh's [v0, v1, v2, m01, m12, m20],
+counter-clockwise. Fracture direction d runs from a polyline's first point to
+its last; the + face is on the left of d.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from meshing.domain import Domain
+
+# gmsh and wingcrack._kernels are imported inside the functions that use them:
+# `import meshing` (for Domain, in the case checker) must stay light.
+
+# Size growth per element layer away from tips and fractures: h(d) = h0 + GRADING * d
+# makes neighbouring layers differ by a factor 1 + GRADING.
+GRADING = 0.3
+# Element size along a fracture, in tip sizes (capped by `size`).
+CRACK_SIZE_IN_TIPS = 2.0
+# Ends of fractures and bc points closer than this (times the domain diameter)
+# to the boundary are on it.
+ON_BOUNDARY = 1e-9
+
+
+@dataclass
+class TipNodes:
+    """The nodes of one crack tip. `upper` is the face on the +y' side of the
+    tip frame (the + face at end 1, the - face at end 0); each face gives
+    (quarter-point node, corner node) along the spoke on the crack, at
+    distances h/4 and h from the tip."""
+
+    fracture: int
+    end: int
+    node: int
+    x: np.ndarray
+    ex: np.ndarray
+    ey: np.ndarray
+    h: float
+    upper: tuple[int, int]
+    lower: tuple[int, int]
+
+
+@dataclass
+class CrackMesh:
+    x: np.ndarray  # (n, 2) nodes, quarter points already moved
+    cells: np.ndarray  # (m, 6) P2 triangles, gmsh order, counter-clockwise
+    boundary_edges: np.ndarray  # (b, 3) [a, b, mid], outer boundary only
+    boundary_tags: np.ndarray  # (b,) tag of each boundary edge
+    boundary_names: dict[str, int]  # name -> tag (tags from 1)
+    pairs: np.ndarray  # (p, 2) [plus, minus] copies facing each other
+    pair_normal: np.ndarray  # (p, 2) unit left normal of d (points into the + side)
+    pair_fracture: np.ndarray  # (p,)
+    crack_edges: np.ndarray  # (k, 3) + face copy, oriented along d, ordered along each fracture
+    crack_fracture: np.ndarray  # (k,)
+    tips: list[TipNodes]
+    point_nodes: np.ndarray  # (q,) node of each bc point (at a crack mouth: one of its 2 copies)
+    crack_edges_minus: np.ndarray | None = None  # (k, 3) - face copy of crack_edges
+    stats: dict = field(default_factory=dict)
+
+
+def crack_mesh(
+    domain: Domain,
+    fractures: Sequence[np.ndarray],
+    points: Sequence[np.ndarray],
+    size: float,
+    tip_size: float,
+    sectors: int = 16,
+    size_at: Callable[[float, float], float] | None = None,
+) -> CrackMesh:
+    """Mesh `domain` with the `fractures` (polylines (n, 2)) as double-noded
+    cracks and the bc `points` (on the boundary) as nodes.
+
+    size: element size away from fractures; tip_size: rosette radius h (and
+    the distance tip - corner node); size_at(x, y): optional extra upper bound
+    of the element size (a future adaptive size field).
+    Each call opens and closes its own gmsh session (gmsh.initialize /
+    finalize), so do not call it while holding a gmsh session of your own.
+    Raises ValueError for geometry that cannot be meshed as asked, RuntimeError
+    when gmsh fails or a cell comes out inverted.
+    """
+    import gmsh
+
+    from wingcrack import _kernels
+
+    t_start = time.perf_counter()
+    # 16 or more is what displacement correlation needs; fewer (down to 8)
+    # are allowed for convergence studies of the rosette itself.
+    if sectors < 8:
+        raise ValueError(f"sectors must be >= 8, not {sectors}")
+    if not (0.0 < tip_size < size):
+        raise ValueError(f"need 0 < tip_size < size, got tip_size={tip_size}, size={size}")
+    plan = _plan(domain, fractures, points, tip_size)
+
+    t0 = time.perf_counter()
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        raw = _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at)
+    except Exception as error:  # gmsh raises bare Exception
+        raise RuntimeError(f"gmsh could not mesh the domain: {error}") from error
+    finally:
+        gmsh.finalize()
+    t_gmsh = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    split = _kernels.split_faces(
+        raw["x"], raw["cells"], raw["crack_edges"], raw["crack_fracture"], raw["boundary_edges"]
+    )
+    tips = _tip_nodes(plan, raw, split)
+    x = _kernels.quarter_points(split["x"], split["cells"], np.array([t.node for t in tips], dtype=np.int64))
+    jac = _kernels.min_jacobian(x, split["cells"])
+    if jac.size and jac.min() <= 0.0:
+        bad = int(np.argmin(jac))
+        raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
+    t_split = time.perf_counter() - t0
+
+    names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
+    mesh = CrackMesh(
+        x=x,
+        cells=split["cells"],
+        boundary_edges=split["boundary_edges"],
+        boundary_tags=np.array([names[n] for n in raw["boundary_name"]], dtype=np.int64),
+        boundary_names=names,
+        pairs=split["pairs"],
+        pair_normal=split["pair_normal"],
+        pair_fracture=split["pair_fracture"],
+        crack_edges=split["crack_edges"],
+        crack_fracture=raw["crack_fracture"],
+        tips=tips,
+        point_nodes=raw["point_nodes"],
+        crack_edges_minus=split["crack_edges_minus"],
+    )
+    mesh.stats = {
+        "nodes": int(len(x)),
+        "vertices": int(len(np.unique(mesh.cells[:, :3]))),
+        "cells": int(len(mesh.cells)),
+        "boundary_edges": int(len(mesh.boundary_edges)),
+        "crack_edges": int(len(mesh.crack_edges)),
+        "pairs": int(len(mesh.pairs)),
+        "tips": len(tips),
+        "min_jacobian": float(jac.min()) if jac.size else 0.0,
+        "seconds_gmsh": t_gmsh,
+        "seconds_split": t_split,
+        "seconds": time.perf_counter() - t_start,
+    }
+    return mesh
+
+
+# -- 1. the plan: pure geometry, before gmsh -------------------------------------
+
+
+@dataclass
+class _Tip:
+    fracture: int
+    end: int
+    x: np.ndarray  # tip point
+    back: np.ndarray  # unit vector from the tip back along the crack
+
+
+@dataclass
+class _Plan:
+    fractures: list[np.ndarray]  # mouths projected onto the boundary
+    tips: list[_Tip]
+    anchors: list[tuple[int, float, np.ndarray]]  # boundary split points (edge, param, point)
+    point_anchor: list[int]  # anchor of each bc point
+    mouth_anchor: dict[tuple[int, int], int]  # (fracture, end) -> anchor
+
+
+def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
+    tol = ON_BOUNDARY * domain.length_scale()
+    anchors: list[tuple[int, float, np.ndarray]] = []
+
+    def anchor(p) -> int:
+        q, edge, t = domain.project(p)
+        for i, (_, _, a) in enumerate(anchors):
+            if np.linalg.norm(a - q) <= tol:
+                return i
+        anchors.append((edge, t, q))
+        return len(anchors) - 1
+
+    polylines, tips, mouth_anchor = [], [], {}
+    for f, pts in enumerate(fractures):
+        pts = np.array(pts, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 2:
+            raise ValueError(f"fracture {f}: points must be (n >= 2, 2)")
+        if np.any(np.linalg.norm(np.diff(pts, axis=0), axis=1) <= tip_size):
+            raise ValueError(f"fracture {f}: every segment must be longer than tip_size={tip_size}")
+        inner = pts[1:-1]
+        if len(inner) and (
+            not np.all(domain.contains(inner)) or np.any(domain.distance_to_boundary(inner) <= tol)
+        ):
+            raise ValueError(f"fracture {f}: inner points must lie inside the domain")
+        for end, (i, j) in enumerate(((0, 1), (-1, -2))):
+            if domain.distance_to_boundary(pts[i]) <= tol:
+                a = anchor(pts[i])
+                pts[i] = anchors[a][2]
+                mouth_anchor[(f, end)] = a
+            elif not domain.contains(pts[i]):
+                raise ValueError(f"fracture {f}: end {end} lies outside the domain")
+            else:
+                back = pts[j] - pts[i]
+                tips.append(_Tip(f, end, pts[i].copy(), back / np.linalg.norm(back)))
+        polylines.append(pts)
+
+    point_anchor = []
+    for q, p in enumerate(points):
+        p = np.asarray(p, dtype=np.float64).reshape(2)
+        if domain.distance_to_boundary(p) > 1e-6 * domain.length_scale():
+            raise ValueError(f"bc point {q} at {p.tolist()} is not on the boundary")
+        point_anchor.append(anchor(p))
+
+    _check_rosettes_fit(domain, polylines, tips, tip_size)
+    return _Plan(polylines, tips, anchors, point_anchor, mouth_anchor)
+
+
+def _check_rosettes_fit(domain: Domain, polylines, tips, tip_size: float) -> None:
+    """A rosette disc must hold nothing but its own crack's last segment."""
+    for t in tips:
+        if domain.distance_to_boundary(t.x) <= 1.5 * tip_size:
+            raise ValueError(f"tip at {t.x.tolist()} is closer than 1.5 tip_size to the boundary")
+        for f, pts in enumerate(polylines):
+            segs = range(len(pts) - 1)
+            if f == t.fracture:  # skip the tip's own segment
+                segs = range(1, len(pts) - 1) if t.end == 0 else range(len(pts) - 2)
+            for s in segs:
+                if _point_segment_distance(t.x, pts[s], pts[s + 1]) <= 1.5 * tip_size:
+                    raise ValueError(
+                        f"tip {t.end} of fracture {t.fracture} is closer than 1.5 tip_size "
+                        f"to segment {s} of fracture {f}"
+                    )
+
+
+def _point_segment_distance(p, a, b) -> float:
+    ab = b - a
+    t = np.clip(np.dot(p - a, ab) / np.dot(ab, ab), 0.0, 1.0)
+    return float(np.linalg.norm(p - a - t * ab))
+
+
+# -- 2. gmsh -----------------------------------------------------------------------
+
+
+def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at) -> dict:
+    import gmsh
+
+    geo = gmsh.model.geo
+    gmsh.model.add("wingcrack")
+
+    # Outer boundary: anchors and corners in counter-clockwise order.
+    anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
+    boundary_curves: list[tuple[int, str]] = []
+    if domain.shape == "disc":
+        center = geo.addPoint(*domain.center, 0.0)
+        angles = [(t, tag) for (_, t, _), tag in zip(plan.anchors, anchor_tag)]
+        angles = _fill_arc_gaps(sorted(angles), domain, geo)
+        for (t0, a), (t1, b) in zip(angles, angles[1:] + angles[:1]):
+            boundary_curves.append((geo.addCircleArc(a, center, b), "rim"))
+    else:
+        corners, names = domain.vertices(), domain.edge_names()
+        tol = ON_BOUNDARY * domain.length_scale()
+        ring = []
+        for i, corner in enumerate(corners):
+            on_corner = [k for k, (_, _, p) in enumerate(plan.anchors) if np.linalg.norm(p - corner) <= tol]
+            ring.append((anchor_tag[on_corner[0]] if on_corner else geo.addPoint(*corner, 0.0), names[i]))
+            inner = sorted(
+                (t, anchor_tag[k])
+                for k, (e, t, p) in enumerate(plan.anchors)
+                if e == i and k not in on_corner and np.linalg.norm(p - corners[(i + 1) % len(corners)]) > tol
+            )
+            ring.extend((tag, names[i]) for _, tag in inner)
+        for (a, name), (b, _) in zip(ring, ring[1:] + ring[:1]):
+            boundary_curves.append((geo.addLine(a, b), name))
+    loops = [geo.addCurveLoop([c for c, _ in boundary_curves])]
+
+    # Rosettes: one transfinite triangle per sector, spoke 0 along the crack.
+    rosettes, tip_point, spoke_on_crack = [], [], []
+    tip_of = {(t.fracture, t.end): k for k, t in enumerate(plan.tips)}
+    for t in plan.tips:
+        phi0 = math.atan2(t.back[1], t.back[0])
+        centre = geo.addPoint(t.x[0], t.x[1], 0.0)
+        ring_pts = []
+        for k in range(sectors):
+            phi = phi0 + 2.0 * math.pi * k / sectors
+            p = t.x + tip_size * (t.back if k == 0 else np.array([math.cos(phi), math.sin(phi)]))
+            ring_pts.append(geo.addPoint(p[0], p[1], 0.0))
+        spokes = [geo.addLine(centre, r) for r in ring_pts]
+        chords = [geo.addLine(ring_pts[k], ring_pts[(k + 1) % sectors]) for k in range(sectors)]
+        for k in range(sectors):
+            loop = geo.addCurveLoop([spokes[k], chords[k], -spokes[(k + 1) % sectors]])
+            rosettes.append((geo.addPlaneSurface([loop]), (centre, ring_pts[k], ring_pts[(k + 1) % sectors])))
+        loops.append(geo.addCurveLoop(chords))
+        tip_point.append((centre, ring_pts[0]))
+        spoke_on_crack.append(spokes[0])
+        for c in spokes + chords:
+            geo.mesh.setTransfiniteCurve(c, 2)
+
+    # Fracture curves outside the rosettes, in order along each fracture.
+    crack_curves: list[tuple[int, int, np.ndarray]] = []  # (curve, fracture, d)
+    for f, pts in enumerate(plan.fractures):
+        ends = []
+        for end, i in ((0, 0), (1, len(pts) - 1)):
+            if (f, end) in plan.mouth_anchor:
+                ends.append(anchor_tag[plan.mouth_anchor[(f, end)]])
+            else:
+                ends.append(tip_point[tip_of[(f, end)]][1])
+        tags = [ends[0]] + [geo.addPoint(p[0], p[1], 0.0) for p in pts[1:-1]] + [ends[1]]
+        if (f, 0) in tip_of:
+            k = tip_of[(f, 0)]
+            crack_curves.append((spoke_on_crack[k], f, pts[1] - pts[0]))
+        for s in range(len(pts) - 1):
+            crack_curves.append((geo.addLine(tags[s], tags[s + 1]), f, pts[s + 1] - pts[s]))
+        if (f, 1) in tip_of:
+            k = tip_of[(f, 1)]
+            crack_curves.append((spoke_on_crack[k], f, pts[-1] - pts[-2]))
+
+    surface = geo.addPlaneSurface(loops)
+    for s, corners in rosettes:
+        geo.mesh.setTransfiniteSurface(s, "Left", list(corners))
+    geo.synchronize()
+    embedded = [c for c, _, _ in crack_curves if c not in set(spoke_on_crack)]
+    if embedded:
+        gmsh.model.mesh.embed(1, embedded, 2, surface)
+
+    _size_field(plan, [centre for centre, _ in tip_point], embedded, size, tip_size, sectors)
+    if size_at is not None:
+        gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z: float(size_at(x, y)))
+    gmsh.model.mesh.generate(2)
+    gmsh.model.mesh.setOrder(2)
+    return _extract(plan, boundary_curves, crack_curves, tip_point, anchor_tag)
+
+
+def _fill_arc_gaps(angles, domain, geo):
+    """Circle arcs must be shorter than pi: add rim points so that no arc spans
+    more than pi/2. angles: sorted [(angle, point tag)]; returns the same, filled."""
+    if not angles:
+        angles = [(-math.pi, _rim_point(-math.pi, domain, geo))]
+    out = []
+    for i, (t, tag) in enumerate(angles):
+        out.append((t, tag))
+        t_next = angles[(i + 1) % len(angles)][0] + (2.0 * math.pi if i == len(angles) - 1 else 0.0)
+        n = max(1, math.ceil((t_next - t) / (0.5 * math.pi) - 1e-9))
+        out.extend((s, _rim_point(s, domain, geo)) for s in (t + (t_next - t) * j / n for j in range(1, n)))
+    return out
+
+
+def _rim_point(angle, domain, geo) -> int:
+    p = domain.center + domain.radius * np.array([math.cos(angle), math.sin(angle)])
+    return geo.addPoint(p[0], p[1], 0.0)
+
+
+def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors):
+    """h = min(size, h_ring + GRADING (r - tip_size), h_crack + GRADING dist): the rosette
+    chord length at the ring, the crack size on the fracture, growing linearly."""
+    import gmsh
+
+    field = gmsh.model.mesh.field
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+    gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
+    if not plan.tips and not crack_curves:
+        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
+        return
+    parts = []
+    if plan.tips:
+        h_ring = 2.0 * tip_size * math.sin(math.pi / sectors)
+        d = field.add("Distance")
+        field.setNumbers(d, "PointsList", tip_points)
+        parts.append(_threshold(d, h_ring, size, tip_size))
+    if crack_curves:
+        h_crack = min(size, CRACK_SIZE_IN_TIPS * tip_size)
+        longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in plan.fractures)
+        d = field.add("Distance")
+        field.setNumbers(d, "CurvesList", crack_curves)
+        field.setNumber(d, "NumPointsPerCurve", int(min(20000, math.ceil(4.0 * longest / h_crack) + 2)))
+        parts.append(_threshold(d, h_crack, size, 0.0))
+    m = field.add("Min")
+    field.setNumbers(m, "FieldsList", parts)
+    field.setAsBackgroundMesh(m)
+
+
+def _threshold(distance_field, h0, size, d0):
+    import gmsh
+
+    field = gmsh.model.mesh.field
+    t = field.add("Threshold")
+    field.setNumber(t, "InField", distance_field)
+    field.setNumber(t, "SizeMin", h0)
+    field.setNumber(t, "SizeMax", size)
+    field.setNumber(t, "DistMin", d0)
+    field.setNumber(t, "DistMax", d0 + (size - h0) / GRADING)
+    return t
+
+
+# -- 3. read the mesh back ---------------------------------------------------------
+
+
+def _extract(plan, boundary_curves, crack_curves, tip_point, anchor_tag) -> dict:
+    import gmsh
+
+    mesh = gmsh.model.mesh
+    _, tri = mesh.getElementsByType(9)  # 6-node triangles
+    tri = np.asarray(tri, dtype=np.int64).reshape(-1, 6)
+    used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
+    cells = cells.reshape(-1, 6).astype(np.int64)
+    tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
+    order = np.argsort(tags)
+    x = np.asarray(coords).reshape(-1, 3)[order][np.searchsorted(np.asarray(tags)[order], used), :2].copy()
+
+    def index(node_tags) -> np.ndarray:
+        return np.searchsorted(used, np.asarray(node_tags, dtype=np.int64))
+
+    def curve_edges(curve) -> np.ndarray:
+        _, _, nodes = mesh.getElements(1, abs(curve))
+        return index(nodes[0]).reshape(-1, 3)
+
+    # Counter-clockwise cells: swap v1 <-> v2 and m01 <-> m20 where the area is negative.
+    v = x[cells[:, :3]]
+    area2 = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    cells[area2 < 0] = cells[area2 < 0][:, [0, 2, 1, 5, 4, 3]]
+
+    b_edges, b_names = [], []
+    for c, name in boundary_curves:
+        e = curve_edges(c)
+        b_edges.append(e)
+        b_names += [name] * len(e)
+
+    c_edges, c_frac = [], []
+    for c, f, d in crack_curves:
+        e = curve_edges(c)
+        backwards = np.einsum("ij,j->i", x[e[:, 1]] - x[e[:, 0]], d) < 0
+        e[backwards] = e[backwards][:, [1, 0, 2]]
+        e = e[np.argsort(x[e[:, 2]] @ d)]  # in order along d
+        c_edges.append(e)
+        c_frac += [f] * len(e)
+
+    def point_node(tag) -> int:
+        return int(index(mesh.getNodes(0, tag, returnParametricCoord=False)[0])[0])
+
+    return {
+        "x": x,
+        "cells": cells,
+        "boundary_edges": np.concatenate(b_edges).astype(np.int64),
+        "boundary_name": b_names,
+        "crack_edges": np.concatenate(c_edges).astype(np.int64) if c_edges else np.zeros((0, 3), np.int64),
+        "crack_fracture": np.array(c_frac, dtype=np.int64),
+        "tip_node": [point_node(centre) for centre, _ in tip_point],
+        "tip_corner": [point_node(r0) for _, r0 in tip_point],
+        "point_nodes": np.array([point_node(anchor_tag[a]) for a in plan.point_anchor], dtype=np.int64),
+    }
+
+
+# -- 4. tips after the split -----------------------------------------------------
+
+
+def _tip_nodes(plan: _Plan, raw: dict, split: dict) -> list[TipNodes]:
+    out = []
+    orig = raw["crack_edges"]
+    for t, tip, corner in zip(plan.tips, raw["tip_node"], raw["tip_corner"]):
+        # the spoke on the crack: the crack edge joining the tip and its corner node
+        ends = np.sort(orig[:, :2], axis=1)
+        k = int(np.flatnonzero(np.all(ends == sorted((tip, corner)), axis=1))[0])
+        plus, minus = (_quarter_and_corner(split[key][k], tip) for key in ("crack_edges", "crack_edges_minus"))
+        ex = -t.back
+        out.append(
+            TipNodes(
+                fracture=t.fracture,
+                end=t.end,
+                node=int(tip),
+                x=split["x"][tip].copy(),
+                ex=ex,
+                ey=np.array([-ex[1], ex[0]]),
+                h=float(np.linalg.norm(split["x"][plus[1]] - split["x"][tip])),
+                upper=plus if t.end == 1 else minus,
+                lower=minus if t.end == 1 else plus,
+            )
+        )
+    return out
+
+
+def _quarter_and_corner(edge, tip) -> tuple[int, int]:
+    a, b, mid = (int(v) for v in edge)
+    return mid, (a if b == tip else b)
