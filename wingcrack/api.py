@@ -1,0 +1,146 @@
+"""The Python face of wingcrack: what the command line calls.
+
+    case = wingcrack.Case.from_toml("cases/brazilian_disc_45.toml")
+    result = wingcrack.sif(case, out="results/disc45")
+    result.tips[0].KI, result.tips[0].KI_M
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+
+
+@dataclass
+class SifResult:
+    """One static solve of the initial geometry.
+
+    tips: list of TipSIF (KI, KII by displacement correlation; KI_M, KII_M by
+    the interaction integral; G; theta (MTS kink angle, rad); K_eq), in the tip
+    frames of the case contract. summary: the dict written to summary.json.
+    """
+    tips: list
+    summary: dict
+    seconds: dict
+    dofs: int
+    cells: int
+    mesh: object = None          # meshing.CrackMesh
+    problem: object = None       # fem.elasticity.ElasticProblem (mesh, u)
+    out: Path | None = None
+    files: dict = field(default_factory=dict)
+
+
+class _Timer:
+    def __init__(self):
+        self.seconds = {}
+        self._t = time.perf_counter()
+
+    def lap(self, name):
+        t = time.perf_counter()
+        self.seconds[name] = self.seconds.get(name, 0.0) + (t - self._t)
+        self._t = t
+
+
+def _status(case) -> str:
+    if any(f.faces != "open" for f in case.fractures):
+        return ("finished: crack faces treated as traction-free "
+                "(contact for 'frictionless'/'slip' faces is not implemented yet)")
+    return "finished"
+
+
+def solve_initial(case, timer: _Timer | None = None):
+    """Mesh, solve and compute SIFs of the case's initial geometry.
+
+    Returns (crack_mesh, problem, tips)."""
+    from meshing.crack_mesh import crack_mesh
+    from .fem.elasticity import ElasticProblem
+    from .fem.mesh import to_dolfinx
+    from .loads import case_loads
+    from .tip_sifs import tip_sifs
+
+    timer = timer or _Timer()
+    fractures = [np.asarray(f.points, float) for f in case.fractures]
+    cm = crack_mesh(case.domain, fractures, case.bc_points(), case.mesh.size,
+                            case.mesh.tip_size, sectors=case.mesh.sectors)
+    timer.lap("mesh")
+    fm = to_dolfinx(cm)
+    timer.lap("to_dolfinx")
+    m = case.material
+    loads = case_loads(case, cm)
+    problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
+    timer.lap("assemble")
+    problem.factorize()
+    timer.lap("factorize")
+    problem.solve(1.0)
+    timer.lap("solve")
+    tips = tip_sifs(problem, cm, fractures, case.domain, m.E, m.nu, m.plane, loads.sigma0)
+    timer.lap("sif")
+    return cm, problem, tips
+
+
+def _summary(case, status, steps):
+    return {
+        "title": case.title,
+        "version": __version__,
+        "status": status,
+        "steps": steps,
+        "fractures": [{"points": np.asarray(f.points, float).tolist(), "origin": "pre-existing"}
+                      for f in case.fractures],
+    }
+
+
+def _step(step, load_factor, dofs, cells, tips, seconds, contact=None):
+    return {
+        "step": step,
+        "load_factor": load_factor,
+        "dofs": int(dofs),
+        "cells": int(cells),
+        "tips": [dict(fracture=t.fracture, end=t.end, x=t.x, y=t.y, KI=t.KI, KII=t.KII,
+                      KI_M=t.KI_M, KII_M=t.KII_M, G=t.G, theta=t.theta, K_eq=t.K_eq,
+                      advance=0.0, state="arrested") for t in tips],
+        "contact": contact or {"pairs": 0, "closed": 0, "iterations": 0},
+        "seconds": {k: round(v, 6) for k, v in seconds.items()},
+    }
+
+
+def sif(case, out=None, quiet: bool = True) -> SifResult:
+    """One solve of the initial geometry and the SIFs of every tip.
+
+    With `out`, writes summary.json, fractures.png and fields.xdmf there.
+    """
+    from mpi4py import MPI
+
+    timer = _Timer()
+    cm, problem, tips = solve_initial(case, timer)
+    fm = problem.fm
+    files = {}
+    status = _status(case)
+    if out is not None:
+        from .io.fields import write_fields
+        from .io.pictures import plot_fractures
+        from .io.summary import write_summary
+
+        out = Path(out)
+        if MPI.COMM_WORLD.rank == 0:
+            out.mkdir(parents=True, exist_ok=True)
+        MPI.COMM_WORLD.barrier()
+        files["fields"] = write_fields(out / "fields.xdmf", problem)
+        if MPI.COMM_WORLD.rank == 0:
+            files["picture"] = plot_fractures(
+                out / "fractures.png", case.domain,
+                [{"points": f.points, "origin": "pre-existing"} for f in case.fractures],
+                tips=[{"x": t.x, "y": t.y} for t in tips], rosette=case.mesh.tip_size,
+                title=case.title)
+        timer.lap("output")
+    seconds = dict(timer.seconds)
+    seconds["total"] = sum(seconds.values())
+    contact = {"pairs": int(len(cm.pairs)), "closed": 0, "iterations": 0}
+    summary = _summary(case, status, [_step(0, 1.0, fm.num_dofs, fm.num_cells, tips, seconds, contact)])
+    if out is not None and MPI.COMM_WORLD.rank == 0:
+        files["summary"] = out / "summary.json"
+        write_summary(files["summary"], summary)
+    return SifResult(tips, summary, seconds, fm.num_dofs, fm.num_cells, cm, problem, out, files)

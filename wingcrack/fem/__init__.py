@@ -1,0 +1,1 @@
+"""The DOLFINx layer: the only part of wingcrack that imports DOLFINx/PETSc."""

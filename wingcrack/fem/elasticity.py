@@ -1,0 +1,174 @@
+"""P2 elasticity on the cracked mesh: forms, boundary conditions, MUMPS solve.
+
+Initial-stress formulation: the total stress is sigma0 + C:eps(u), where
+sigma0 is the constant in-situ stress and u the displacement from the in-situ
+state on. The outer boundary carries sigma0.n (plus any prescribed traction),
+so only the crack faces feel -sigma0.n: they are traction-free in total.
+
+Everything that changes between solves (load factor, prescribed values) lives
+in a fem.Constant, so each form compiles once. The matrix does not depend on
+the load: it is factorised once per mesh (Cholesky, MUMPS) and reused.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx.fem import petsc as fpetsc
+from petsc4py import PETSc
+
+from .material import lame
+
+
+@dataclass
+class Loads:
+    """What loads the body, in CrackMesh node indices and boundary tags.
+
+    Entries of the first four lists are multiplied by the load factor; the
+    body force and in-situ stress are not.
+    """
+    point_forces: list = field(default_factory=list)          # (node, fx, fy) N/m
+    point_displacements: list = field(default_factory=list)   # (node, comp, value) m
+    tractions: list = field(default_factory=list)             # (tag, tx, ty) Pa
+    boundary_displacements: list = field(default_factory=list)  # (tag, comp, value) m
+    body_force: tuple = (0.0, 0.0)                             # rho g, N/m^3
+    sigma0: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))  # Pa
+    outer_tags: tuple = ()                                     # every outer boundary tag
+
+
+def strain(u):
+    return ufl.sym(ufl.grad(u))
+
+
+class ElasticProblem:
+    """Assemble once per mesh, factorise once, solve for any load factor."""
+
+    def __init__(self, fm, E: float, nu: float, plane: str, loads: Loads):
+        self.fm = fm
+        msh, V = fm.mesh, fm.V
+        lam, mu = lame(E, nu, plane)
+        self.lam = fem.Constant(msh, PETSc.ScalarType(lam))
+        self.mu = fem.Constant(msh, PETSc.ScalarType(mu))
+        self.load_factor = fem.Constant(msh, PETSc.ScalarType(1.0))
+        self.sigma0 = fem.Constant(msh, np.asarray(loads.sigma0, dtype=PETSc.ScalarType))
+        self.body = fem.Constant(msh, np.asarray(loads.body_force, dtype=PETSc.ScalarType))
+        self.loads = loads
+
+        u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+        ds = ufl.Measure("ds", domain=msh, subdomain_data=fm.facet_tags)
+        dx = ufl.Measure("dx", domain=msh)
+        self.a = fem.form(ufl.inner(self.stress(u, total=False), strain(v)) * dx)
+
+        L = ufl.inner(self.body, v) * dx - ufl.inner(self.sigma0, strain(v)) * dx
+        n = ufl.FacetNormal(msh)
+        if loads.outer_tags:
+            L += ufl.inner(ufl.dot(self.sigma0, n), v) * ds(tuple(int(t) for t in loads.outer_tags))
+        self._traction_values = []
+        for tag, tx, ty in loads.tractions:
+            c = fem.Constant(msh, np.array([tx, ty], dtype=PETSc.ScalarType))
+            self._traction_values.append(c)
+            L += self.load_factor * ufl.inner(c, v) * ds(int(tag))
+        self.L = fem.form(L)
+
+        self.bcs, self._bc_values = self._dirichlet(loads)
+        self._point_forces = self._locate_point_forces(loads.point_forces)
+
+        self.A = fpetsc.assemble_matrix(self.a, bcs=self.bcs)
+        self.A.assemble()
+        self.A.setOption(PETSc.Mat.Option.SPD, True)
+        self.solver = PETSc.KSP().create(msh.comm)
+        self.solver.setOperators(self.A)
+        self.solver.setType("preonly")
+        pc = self.solver.getPC()
+        pc.setType("cholesky")
+        pc.setFactorSolverType("mumps")
+        self._factored = False
+        self.b = fpetsc.create_vector(self.L)
+        self.u = fem.Function(V, name="displacement")
+
+    # -- physics -----------------------------------------------------------
+    def stress(self, u, total: bool = True):
+        """Cauchy stress of displacement u; with total=True add sigma0."""
+        eps = strain(u)
+        s = self.lam * ufl.tr(eps) * ufl.Identity(2) + 2.0 * self.mu * eps
+        return s + self.sigma0 if total else s
+
+    def strain_energy(self) -> float:
+        """U = 1/2 int (C:eps(u)):eps(u) dx of the current displacement (J/m)."""
+        if not hasattr(self, "_energy_form"):
+            u = self.u
+            self._energy_form = fem.form(0.5 * ufl.inner(self.stress(u, total=False), strain(u)) * ufl.dx)
+        return self.fm.mesh.comm.allreduce(fem.assemble_scalar(self._energy_form))
+
+    # -- boundary conditions ----------------------------------------------
+    def _node_dofs(self, node: int) -> np.ndarray:
+        """Local block dofs of CrackMesh node `node` on this rank (may be empty)."""
+        local = np.flatnonzero(self.fm.original == node)
+        return np.unique(self.fm.node_dof[local])
+
+    def _dirichlet(self, loads: Loads):
+        V, msh = self.fm.V, self.fm.mesh
+        bcs, values = [], []
+        for node, comp, value in loads.point_displacements:
+            dofs = (2 * self._node_dofs(node) + comp).astype(np.int32)
+            c = fem.Constant(msh, PETSc.ScalarType(value))
+            values.append((c, value))
+            bcs.append(fem.dirichletbc(c, dofs, V.sub(comp)))
+        fdim = msh.topology.dim - 1
+        for tag, comp, value in loads.boundary_displacements:
+            facets = self.fm.facet_tags.find(int(tag))
+            dofs = fem.locate_dofs_topological(V.sub(comp), fdim, facets)
+            c = fem.Constant(msh, PETSc.ScalarType(value))
+            values.append((c, value))
+            bcs.append(fem.dirichletbc(c, dofs, V.sub(comp)))
+        return bcs, values
+
+    def _locate_point_forces(self, forces):
+        """(owned local scalar dof, value) for each point-force component."""
+        imap = self.fm.V.dofmap.index_map
+        out = []
+        for node, fx, fy in forces:
+            for blk in self._node_dofs(node):
+                if blk < imap.size_local:  # add once, on the owning rank
+                    out.append((2 * blk, fx))
+                    out.append((2 * blk + 1, fy))
+        return out
+
+    # -- solve --------------------------------------------------------------
+    def factorize(self):
+        self.solver.setUp()
+        self._factored = True
+
+    def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
+        self.load_factor.value = load_factor
+        for c, value in self._bc_values:
+            c.value = load_factor * value
+        b = self.b
+        with b.localForm() as bl:
+            bl.set(0.0)
+        fpetsc.assemble_vector(b, self.L)
+        if self._point_forces:
+            arr = b.getArray()
+            for dof, val in self._point_forces:
+                arr[dof] += load_factor * val
+        fpetsc.apply_lifting(b, [self.a], bcs=[self.bcs])
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        fpetsc.set_bc(b, self.bcs)
+        return b
+
+    def solve(self, load_factor: float = 1.0) -> fem.Function:
+        if not self._factored:
+            self.factorize()
+        b = self.assemble_rhs(load_factor)
+        self.solver.solve(b, self.u.vector)
+        reason = self.solver.getConvergedReason()
+        if reason < 0:
+            from ..errors import ComputationError
+            raise ComputationError(f"linear solve failed (PETSc reason {reason})")
+        self.u.x.scatter_forward()
+        if not np.all(np.isfinite(self.u.x.array)):
+            from ..errors import ComputationError
+            raise ComputationError("the displacement has NaN/inf: the body is not held (singular system)")
+        return self.u

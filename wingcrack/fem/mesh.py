@@ -1,0 +1,73 @@
+"""From a meshing.CrackMesh (plain arrays on rank 0) to a distributed DOLFINx mesh.
+
+The CrackMesh nodes keep their identity through DOLFINx's redistribution:
+`FEMesh.node_dof` maps every local geometry node to its displacement block
+dof, and `FEMesh.original` gives the CrackMesh index of each local geometry
+node, so tip and pair nodes can be found on any number of ranks.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import ufl
+from dolfinx import cpp as _cpp
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from dolfinx.io.gmshio import cell_perm_array
+from mpi4py import MPI
+
+# gmsh element type ids: 9 = 6-node triangle, 8 = 3-node line
+_TRI6 = 9
+
+
+@dataclass
+class FEMesh:
+    mesh: dmesh.Mesh
+    facet_tags: object
+    V: fem.FunctionSpace
+    original: np.ndarray   # (local geometry nodes,) CrackMesh node index
+    node_dof: np.ndarray   # (local geometry nodes,) block dof in V
+    num_dofs: int          # global scalar dofs
+    num_cells: int         # global cells
+
+
+def _coordinate_domain() -> ufl.Mesh:
+    return ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 2))
+
+
+def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
+    """Distribute the CrackMesh `cm` (only read on `root`) and build P2 space."""
+    domain = _coordinate_domain()
+    perm = cell_perm_array(_cpp.mesh.CellType.triangle, 6)
+    fperm = cell_perm_array(_cpp.mesh.CellType.interval, 3)
+    if comm.rank == root:
+        cells = np.ascontiguousarray(np.asarray(cm.cells, dtype=np.int64)[:, perm])
+        x = np.ascontiguousarray(np.asarray(cm.x, dtype=np.float64))
+        facets = np.ascontiguousarray(np.asarray(cm.boundary_edges, dtype=np.int64)[:, fperm])
+        values = np.asarray(cm.boundary_tags, dtype=np.int32)
+    else:
+        cells = np.empty((0, 6), dtype=np.int64)
+        x = np.empty((0, 2), dtype=np.float64)
+        facets = np.empty((0, 3), dtype=np.int64)
+        values = np.empty((0,), dtype=np.int32)
+    msh = dmesh.create_mesh(comm, cells, x, domain)
+    tdim = msh.topology.dim
+    local_entities, local_values = _cpp.io.distribute_entity_data(msh._mesh, tdim - 1, facets, values)
+    msh.topology.create_connectivity(tdim - 1, tdim)
+    msh.topology.create_connectivity(tdim - 1, 0)
+    adj = _cpp.graph.AdjacencyList_int32(local_entities)
+    ft = dmesh.meshtags_from_entities(msh, tdim - 1, adj, local_values.astype(np.int32))
+
+    V = fem.VectorFunctionSpace(msh, ("Lagrange", 2))
+    geo = msh.geometry.dofmap.array
+    dofs = V.dofmap.list.array
+    node_dof = np.full(msh.geometry.x.shape[0], -1, dtype=np.int32)
+    # Same element (P2 Lagrange) for geometry and displacement: the local
+    # node order inside each cell coincides, so the two maps line up.
+    node_dof[geo] = dofs
+    original = np.asarray(msh.geometry.input_global_indices, dtype=np.int64)
+    imap = V.dofmap.index_map
+    num_dofs = imap.size_global * V.dofmap.index_map_bs
+    num_cells = msh.topology.index_map(tdim).size_global
+    return FEMesh(msh, ft, V, original, node_dof, num_dofs, num_cells)

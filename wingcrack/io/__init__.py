@@ -1,0 +1,1 @@
+"""Writing results: summary.json, field files, pictures."""

@@ -1,0 +1,43 @@
+"""summary.json, written atomically after every step (see the case contract)."""
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+
+
+def _clean(obj):
+    """JSON-safe copy: numpy scalars/arrays to Python; NaN/inf are refused."""
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise ValueError("refusing to write a NaN/inf into summary.json")
+    return obj
+
+
+def write_summary(path: Path, summary: dict) -> None:
+    """Write `summary` as JSON to `path` atomically (temporary file + rename)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    data = json.dumps(_clean(summary), indent=1)
+    fd, tmp = tempfile.mkstemp(prefix=".summary.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
