@@ -15,10 +15,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def disc_case(tip_size=0.0005, size=0.0022):
+def disc_case(tip_size=0.0005, size=0.0014):
+    from dataclasses import replace
     from wingcrack.case import Case
     case = Case.from_toml(ROOT / "cases" / "brazilian_disc_45_open.toml")
-    return case.with_mesh(size=size, tip_size=tip_size)
+    return replace(case, mesh=replace(case.mesh, size=size, tip_size=tip_size))
 
 
 def bench_sif(repeat: int):

@@ -1,2 +1,27 @@
-"""wingcrack: wing-crack growth from pre-existing fractures with contact."""
+"""wingcrack: wing-crack initiation and growth from pre-existing fractures,
+with the fracture faces in contact or open (Dang-Trung, Keilegavlen & Berre,
+IJSS 2020).
+
+    import wingcrack
+    case = wingcrack.Case.from_toml("cases/brazilian_disc_45.toml")
+    result = wingcrack.sif(case, out="results/disc45")
+
+DOLFINx is imported only when a computation starts, so reading and checking
+cases stays fast.
+"""
 __version__ = "0.1.0"
+
+__all__ = ["Case", "CaseError", "ComputationError", "sif", "__version__"]
+
+
+def __getattr__(name):
+    if name == "Case":
+        from .case import Case
+        return Case
+    if name in ("CaseError", "ComputationError"):
+        from . import errors
+        return getattr(errors, name)
+    if name == "sif":
+        from .api import sif
+        return sif
+    raise AttributeError(f"module 'wingcrack' has no attribute {name!r}")

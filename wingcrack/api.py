@@ -93,7 +93,12 @@ def _summary(case, status, steps):
     }
 
 
-def _step(step, load_factor, dofs, cells, tips, seconds, contact=None):
+def _state(tip, KIc) -> str:
+    """In a static solve a tip 'grows' if it has reached the toughness."""
+    return "growing" if KIc is not None and tip.K_eq >= KIc * (1 - 1e-9) else "arrested"
+
+
+def _step(step, load_factor, dofs, cells, tips, seconds, contact=None, KIc=None):
     return {
         "step": step,
         "load_factor": load_factor,
@@ -101,7 +106,7 @@ def _step(step, load_factor, dofs, cells, tips, seconds, contact=None):
         "cells": int(cells),
         "tips": [dict(fracture=t.fracture, end=t.end, x=t.x, y=t.y, KI=t.KI, KII=t.KII,
                       KI_M=t.KI_M, KII_M=t.KII_M, G=t.G, theta=t.theta, K_eq=t.K_eq,
-                      advance=0.0, state="arrested") for t in tips],
+                      advance=0.0, state=_state(t, KIc)) for t in tips],
         "contact": contact or {"pairs": 0, "closed": 0, "iterations": 0},
         "seconds": {k: round(v, 6) for k, v in seconds.items()},
     }
@@ -110,7 +115,7 @@ def _step(step, load_factor, dofs, cells, tips, seconds, contact=None):
 def sif(case, out=None, quiet: bool = True) -> SifResult:
     """One solve of the initial geometry and the SIFs of every tip.
 
-    With `out`, writes summary.json, fractures.png and fields.xdmf there.
+    With `out`, writes summary.json, fractures.png and fields.vtu there.
     """
     from mpi4py import MPI
 
@@ -128,18 +133,19 @@ def sif(case, out=None, quiet: bool = True) -> SifResult:
         if MPI.COMM_WORLD.rank == 0:
             out.mkdir(parents=True, exist_ok=True)
         MPI.COMM_WORLD.barrier()
-        files["fields"] = write_fields(out / "fields.xdmf", problem)
+        files["fields"] = write_fields(out / "fields.vtu", problem, cm)
         if MPI.COMM_WORLD.rank == 0:
             files["picture"] = plot_fractures(
                 out / "fractures.png", case.domain,
                 [{"points": f.points, "origin": "pre-existing"} for f in case.fractures],
                 tips=[{"x": t.x, "y": t.y} for t in tips], rosette=case.mesh.tip_size,
-                title=case.title)
+                title=case.title, mesh=cm)
         timer.lap("output")
     seconds = dict(timer.seconds)
     seconds["total"] = sum(seconds.values())
     contact = {"pairs": int(len(cm.pairs)), "closed": 0, "iterations": 0}
-    summary = _summary(case, status, [_step(0, 1.0, fm.num_dofs, fm.num_cells, tips, seconds, contact)])
+    summary = _summary(case, status, [_step(0, 1.0, fm.num_dofs, fm.num_cells, tips, seconds, contact,
+                                            KIc=case.material.KIc)])
     if out is not None and MPI.COMM_WORLD.rank == 0:
         files["summary"] = out / "summary.json"
         write_summary(files["summary"], summary)

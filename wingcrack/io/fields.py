@@ -1,8 +1,11 @@
-"""Field files that ParaView opens: XDMF with displacement and von Mises stress.
+"""Field files that ParaView opens: VTU (meshio) of the P2 mesh with nodal
+displacement, total stress and von Mises stress.
 
-The mesh is P2 (curved rim, quarter points), so the fields are written as P2
-functions on it; von Mises stress (of the total stress) is interpolated into
-P2 for display only.
+DOLFINx 0.5's XDMF writer pulls mesh nodes back to the reference cell with a
+Newton iteration, which cannot converge in quarter-point cells (their
+Jacobian vanishes at the tip); writing the CrackMesh nodes directly avoids
+that and keeps the file in the mesh's own node numbering. Values are gathered
+to rank 0, which writes the file.
 """
 from __future__ import annotations
 
@@ -11,28 +14,61 @@ from pathlib import Path
 import numpy as np
 import ufl
 from dolfinx import fem
-from dolfinx.io import XDMFFile
 
 
-def von_mises(problem) -> fem.Function:
-    msh = problem.fm.mesh
-    S = fem.FunctionSpace(msh, ("Lagrange", 2))
+def _nodal_stress(problem) -> tuple[np.ndarray, np.ndarray]:
+    """Total stress (sxx, syy, sxy) at the P2 nodes, per local geometry node.
+
+    The stress is discontinuous between cells; each node takes the value of
+    one of its cells (display only)."""
+    fm = problem.fm
+    T = fem.VectorFunctionSpace(fm.mesh, ("Lagrange", 2), dim=3)
     s = problem.stress(problem.u, total=True)
-    # in-plane von Mises (plane stress form): sqrt(sxx^2 - sxx syy + syy^2 + 3 sxy^2)
-    vm = ufl.sqrt(s[0, 0] ** 2 - s[0, 0] * s[1, 1] + s[1, 1] ** 2 + 3 * s[0, 1] ** 2)
-    expr = fem.Expression(vm, S.element.interpolation_points())
-    f = fem.Function(S, name="von_mises")
+    expr = fem.Expression(ufl.as_vector([s[0, 0], s[1, 1], s[0, 1]]), T.element.interpolation_points())
+    f = fem.Function(T)
     f.interpolate(expr)
-    return f
+    node_dof = fm.node_dof  # same P2 layout as the displacement space
+    vals = f.x.array.reshape(-1, 3)[node_dof]
+    return vals
 
 
-def write_fields(path: Path, problem, time: float = 0.0) -> Path:
-    """Write mesh, displacement and von Mises stress to `path` (.xdmf + .h5)."""
+def nodal_fields(problem) -> dict:
+    """{name: (local geometry nodes, k) array} for the output file."""
+    fm = problem.fm
+    u = problem.u.x.array.reshape(-1, 2)[fm.node_dof]
+    s = _nodal_stress(problem)
+    vm = np.sqrt(s[:, 0] ** 2 - s[:, 0] * s[:, 1] + s[:, 1] ** 2 + 3 * s[:, 2] ** 2)
+    return {"displacement": u, "stress": s, "von_mises": vm}
+
+
+def gather_nodal(fm, fields: dict, num_nodes: int) -> dict | None:
+    """Fields by CrackMesh node index on rank 0 (None on the other ranks)."""
+    comm = fm.mesh.comm
+    parts = comm.gather((fm.original, fields), root=0)
+    if comm.rank != 0:
+        return None
+    out = {}
+    for name, arr in fields.items():
+        shape = (num_nodes,) + arr.shape[1:]
+        full = np.zeros(shape)
+        for original, f in parts:
+            full[original] = f[name]
+        out[name] = full
+    return out
+
+
+def write_fields(path: Path, problem, cm) -> Path:
+    """Write the mesh with displacement, stress (sxx, syy, sxy) and von Mises
+    stress to `path` (.vtu). Collective; rank 0 writes."""
+    import meshio
+
     path = Path(path)
-    msh = problem.fm.mesh
-    vm = von_mises(problem)
-    with XDMFFile(msh.comm, str(path), "w") as xf:
-        xf.write_mesh(msh)
-        xf.write_function(problem.u, time)
-        xf.write_function(vm, time)
+    full = gather_nodal(problem.fm, nodal_fields(problem), len(cm.x))
+    if full is not None:
+        points = np.c_[cm.x, np.zeros(len(cm.x))]
+        disp = np.c_[full["displacement"], np.zeros(len(cm.x))]
+        mesh = meshio.Mesh(points, [("triangle6", np.asarray(cm.cells))],
+                           point_data={"displacement": disp, "stress": full["stress"],
+                                       "von_mises": full["von_mises"]})
+        mesh.write(path)
     return path

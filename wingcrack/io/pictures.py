@@ -19,7 +19,7 @@ def _outline(domain) -> np.ndarray:
 
 
 def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
-                   closed_segments=(), title: str = "") -> Path:
+                   closed_segments=(), title: str = "", mesh=None) -> Path:
     """Draw the domain and fractures.
 
     fractures: list of dicts {"points": (n,2), "origin": "pre-existing"|"wing"};
@@ -31,6 +31,9 @@ def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
     import matplotlib.pyplot as plt
 
     fig, (ax_full, ax_zoom) = plt.subplots(1, 2, figsize=(11, 5.2))
+    if mesh is not None:
+        # the straight-sided vertex triangles show the rosettes and grading
+        ax_zoom.triplot(mesh.x[:, 0], mesh.x[:, 1], np.asarray(mesh.cells)[:, :3], color="0.8", lw=0.3)
     all_pts = np.vstack([np.asarray(f["points"], float) for f in fractures]) if fractures else np.zeros((0, 2))
     for ax in (ax_full, ax_zoom):
         o = _outline(domain)
@@ -49,13 +52,13 @@ def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
-    ax_full.set_title(title or "domain and fractures")
+    ax_full.set_title(title or "domain and fractures", fontsize=10)
     if len(all_pts):
         lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
         pad = 0.15 * max(hi - lo) + 3 * rosette + 1e-12
         ax_zoom.set_xlim(lo[0] - pad, hi[0] + pad)
         ax_zoom.set_ylim(lo[1] - pad, hi[1] + pad)
-        ax_zoom.set_title("fractures (zoom); circles: tip rosettes")
+        ax_zoom.set_title("fractures and mesh (zoom); circles: tip rosettes", fontsize=10)
     handles, labels = ax_full.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     if uniq:
