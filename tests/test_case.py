@@ -1,0 +1,417 @@
+"""The case model (wingcrack/case.py) against the contract /work/shared/spec/case-format.md.
+
+`INVALID` lists one bad input per row, each a patch of the valid `BASE` case,
+with the key the error must name and a fragment of its reason; test_cli.py
+runs the same rows through the command line.
+"""
+from __future__ import annotations
+
+import copy
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wingcrack.case import BC, Case, Fracture, Material, MeshOptions, Propagation, Tip
+from wingcrack.errors import CaseError
+
+CASES = sorted((Path(__file__).resolve().parents[1] / "cases").glob("*.toml"))
+
+# A 4 m x 2 m plate: a kinked interior crack, an edge crack from the left side,
+# tension on top and bottom, three scalar supports.
+BASE = {
+    "title": "base",
+    "material": {"E": 1.0e10, "nu": 0.25, "KIc": 1.0e6, "plane": "strain"},
+    "domain": {"shape": "rectangle", "corner": [0.0, 0.0], "size": [4.0, 2.0]},
+    "fractures": [
+        {"points": [[1.0, 1.0], [1.5, 1.2], [2.0, 1.0]], "faces": "frictionless"},
+        {"points": [[0.0, 0.5], [0.5, 0.5]]},
+    ],
+    "bc": [
+        {"on": "top", "traction": [0.0, 1.0e6]},
+        {"on": "bottom", "traction": [0.0, -1.0e6]},
+        {"at": [4.0, 1.0], "displacement": [0.0, 0.0]},
+        {"at": [2.0, 0.0], "displacement_x": 0.0},
+    ],
+    "mesh": {"size": 0.2, "tip_size": 0.05},
+}
+
+DELETE = object()
+
+# Same plate as a polygon (boundaries edge0 = bottom ... edge3 = left).
+_POLYGON = {"shape": "polygon", "points": [[0.0, 0.0], [4.0, 0.0], [4.0, 2.0], [0.0, 2.0]]}
+_POLYGON_BC = [
+    {"on": "edge2", "traction": [0.0, 1.0e6]},
+    {"on": "edge0", "traction": [0.0, -1.0e6]},
+    {"at": [4.0, 1.0], "displacement": [0.0, 0.0]},
+    {"at": [2.0, 0.0], "displacement_x": 0.0},
+]
+# An L-shaped (concave) domain, counter-clockwise: the block x < 2, y > 1 is cut away.
+_L_SHAPE = {"shape": "polygon", "points": [[0.0, 0.0], [4.0, 0.0], [4.0, 2.0], [2.0, 2.0], [2.0, 1.0], [0.0, 1.0]]}
+_DISC = {"shape": "disc", "center": [0.0, 0.0], "radius": 1.0}
+_DISC_BC = [
+    {"at": [0.0, 1.0], "force": [0.0, -1.0e6]},
+    {"at": [0.0, -1.0], "force": [0.0, 1.0e6]},
+    {"at": [-1.0, 0.0], "displacement": [0.0, 0.0]},
+    {"at": [1.0, 0.0], "displacement_y": 0.0},
+]
+_DISC_FRACTURE = [{"points": [[-0.1, -0.1], [0.1, 0.1]]}]
+
+
+def patched(*changes, base=BASE) -> dict:
+    """A deep copy of `base` with each (dotted.path, value) set; value DELETE removes.
+    List items are addressed by index ("fractures.0.faces"); index len(list) appends."""
+    d = copy.deepcopy(base)
+    for path, value in changes:
+        *head, last = path.split(".")
+        node = d
+        for part in head:
+            node = node[int(part)] if isinstance(node, list) else node[part]
+        if isinstance(node, list):
+            last = int(last)
+        if value is DELETE:
+            del node[last]
+        elif isinstance(node, list) and last == len(node):
+            node.append(copy.deepcopy(value))
+        else:
+            node[last] = copy.deepcopy(value)
+    return d
+
+
+def bad(id, changes, key, reason):
+    return pytest.param(changes, key, reason, id=id)
+
+
+# (changes, the key the message names, a fragment of the reason)
+INVALID = [
+    # unknown keys, with suggestions
+    bad("top-typo", [("meshh", {"size": 1.0})], "meshh", "unknown key (did you mean mesh?)"),
+    bad("mesh-typo", [("mesh", {"size": 0.2, "tip_sise": 0.05})], "mesh.tip_sise", "unknown key (did you mean tip_size?)"),
+    bad("material-unknown", [("material.Young", 1.0)], "material.Young", "unknown key"),
+    bad("fracture-typo", [("fractures.0.face", "open")], "fractures[0].face", "did you mean faces?"),
+    bad("bc-typo", [("bc.2.displacment", [0.0, 0.0])], "bc[2].displacment", "did you mean displacement?"),
+    bad("propagation-typo", [("propagation", {"step": 3})], "propagation.step", "did you mean steps?"),
+    bad("stress-typo", [("stress", {"sxz": 1.0})], "stress.sxz", "unknown key"),
+    bad("body-typo", [("body", {"gravitiy": [0.0, -9.8]})], "body.gravitiy", "did you mean gravity?"),
+    bad("domain-other-shape-key", [("domain.radius", 1.0)], "domain.radius", 'not a key of shape "rectangle"'),
+    # missing
+    bad("no-material", [("material", DELETE)], "material", "missing"),
+    bad("no-E", [("material.E", DELETE)], "material.E", "missing"),
+    bad("no-KIc", [("material.KIc", DELETE)], "material.KIc", "missing"),
+    bad("no-domain", [("domain", DELETE)], "domain", "missing"),
+    bad("no-shape", [("domain.shape", DELETE)], "domain.shape", "missing"),
+    bad("no-mesh", [("mesh", DELETE)], "mesh", "missing"),
+    bad("no-mesh-size", [("mesh.size", DELETE)], "mesh.size", "missing"),
+    bad("no-tip-size", [("mesh.tip_size", DELETE)], "mesh.tip_size", "missing"),
+    bad("no-fracture-points", [("fractures.0.points", DELETE)], "fractures[0].points", "missing"),
+    # types
+    bad("E-string", [("material.E", "15e9")], "material.E", "expected a number, got a string"),
+    bad("E-bool", [("material.E", True)], "material.E", "expected a number, got a boolean"),
+    bad("nu-nan", [("material.nu", math.nan)], "material.nu", "finite"),
+    bad("E-inf", [("material.E", math.inf)], "material.E", "finite"),
+    bad("point-3d", [("bc.2.at", [4.0, 1.0, 0.0])], "bc[2].at", "expected [x, y]"),
+    bad("point-nan", [("fractures.0.points.1", [1.5, math.nan])], "fractures[0].points[1][1]", "finite"),
+    bad("vector-string", [("bc.0.traction", "up")], "bc[0].traction", "expected [x, y]"),
+    bad("plane-number", [("material.plane", 1)], "material.plane", "expected a string"),
+    bad("grow-string", [("fractures.0.grow", "yes")], "fractures[0].grow", "expected true or false"),
+    bad("adaptive-int", [("mesh.adaptive", 1)], "mesh.adaptive", "expected true or false"),
+    bad("sectors-float", [("mesh.sectors", 16.0)], "mesh.sectors", "expected an integer"),
+    bad("steps-bool", [("propagation", {"steps": True})], "propagation.steps", "expected an integer"),
+    bad("title-number", [("title", 3)], "title", "expected a string"),
+    bad("material-not-table", [("material", 1.0)], "material", "expected a table"),
+    bad("fractures-table", [("fractures", {"points": [[1.0, 1.0], [2.0, 1.0]]})], "fractures", "array of tables"),
+    bad("bc-item-not-table", [("bc.3", 1.0)], "bc[3]", "expected a table"),
+    # material
+    bad("E-zero", [("material.E", 0.0)], "material.E", "must be > 0"),
+    bad("E-negative", [("material.E", -1e9)], "material.E", "must be > 0"),
+    bad("nu-half", [("material.nu", 0.5)], "material.nu", "(-1, 0.5)"),
+    bad("nu-minus-one", [("material.nu", -1.0)], "material.nu", "(-1, 0.5)"),
+    bad("KIc-zero", [("material.KIc", 0)], "material.KIc", "must be > 0"),
+    bad("thickness-zero", [("material.thickness", 0.0)], "material.thickness", "must be > 0"),
+    bad("density-negative", [("material.density", -1.0)], "material.density", "must be >= 0"),
+    bad("plane-typo", [("material.plane", "strian")], "material.plane", '"stress" | "strain"'),
+    # domain
+    bad("shape-unknown", [("domain.shape", "circle")], "domain.shape", '"circle" is not one of'),
+    bad("disc-no-radius", [("domain", {"shape": "disc", "center": [0.0, 0.0]})], "domain.radius", "missing"),
+    bad("disc-no-center", [("domain", {"shape": "disc", "radius": 1.0})], "domain.center", "missing"),
+    bad("disc-radius-zero", [("domain", dict(_DISC, radius=0.0))], "domain.radius", "must be > 0"),
+    bad("rect-no-size", [("domain.size", DELETE)], "domain.size", "missing"),
+    bad("rect-width-zero", [("domain.size", [0.0, 2.0])], "domain.size[0]", "width must be > 0"),
+    bad("rect-height-negative", [("domain.size", [4.0, -2.0])], "domain.size[1]", "height must be > 0"),
+    bad("polygon-no-points", [("domain", {"shape": "polygon"})], "domain.points", "missing"),
+    bad("polygon-two-points", [("domain", {"shape": "polygon", "points": [[0.0, 0.0], [4.0, 0.0]]})],
+        "domain.points", "at least 3 points"),
+    bad("polygon-clockwise", [("domain", {"shape": "polygon", "points": _POLYGON["points"][::-1]})],
+        "domain.points", "counter-clockwise"),
+    bad("polygon-bowtie", [("domain", {"shape": "polygon", "points": [[0.0, 0.0], [4.0, 2.0], [4.0, 0.0], [0.0, 2.0]]})],
+        "domain.points", "intersects itself"),
+    bad("polygon-no-area", [("domain", {"shape": "polygon", "points": [[0.0, 0.0], [4.0, 0.0], [2.0, 0.0]]})],
+        "domain.points", "intersects itself"),
+    bad("polygon-repeated-point",
+        [("domain", {"shape": "polygon", "points": [[0.0, 0.0], [4.0, 0.0], [4.0, 0.0], [4.0, 2.0], [0.0, 2.0]]})],
+        "domain.points", "zero length"),
+    # fractures
+    bad("fracture-one-point", [("fractures.0.points", [[1.0, 1.0]])], "fractures[0].points", "at least 2 points"),
+    bad("fracture-zero-segment", [("fractures.0.points", [[1.0, 1.0], [1.0, 1.0], [2.0, 1.0]])],
+        "fractures[0].points", "zero length"),
+    bad("fracture-self-intersecting", [("fractures.0.points", [[1.0, 1.0], [2.0, 1.5], [2.0, 1.0], [1.0, 1.5]])],
+        "fractures[0].points", "intersects itself"),
+    bad("fractures-crossing", [("fractures.2", {"points": [[1.5, 0.8], [1.5, 1.6]]})], "fractures[2].points",
+        "crosses or touches fractures[0]"),
+    bad("fractures-touching-vertex", [("fractures.2", {"points": [[1.5, 1.2], [1.5, 1.6]]})], "fractures[2].points",
+        "crosses or touches fractures[0]"),
+    bad("fractures-sharing-end", [("fractures.2", {"points": [[2.0, 1.0], [2.5, 1.0]]})], "fractures[2].points",
+        "crosses or touches fractures[0]"),
+    bad("fracture-outside", [("fractures.0.points", [[1.0, 1.0], [5.0, 1.0]])], "fractures[0].points[1]",
+        "outside the domain"),
+    bad("fracture-interior-point-on-boundary", [("fractures.0.points", [[1.0, 1.0], [2.0, 0.0], [3.0, 1.0]])],
+        "fractures[0].points[1]", "on the boundary"),
+    bad("fracture-along-boundary", [("fractures.1.points", [[0.0, 0.5], [0.0, 1.5]])], "fractures[1].points",
+        "along or outside the boundary"),
+    bad("fracture-crosses-concave-boundary",
+        [("domain", _L_SHAPE), ("bc", _POLYGON_BC[2:] + [{"on": "edge0", "displacement_y": 0.0}]),
+         ("fractures", [{"points": [[1.5, 0.8], [3.0, 1.8]]}])],
+        "fractures[0].points", "crosses the boundary edge3"),
+    bad("faces-unknown", [("fractures.0.faces", "closed")], "fractures[0].faces", '"open" | "frictionless" | "slip"'),
+    bad("slip-without-slip-faces", [("fractures.0.slip", 0.001)], "fractures[0].slip", 'only with faces = "slip"'),
+    bad("slip-zero-present", [("fractures.1.slip", 0.0)], "fractures[1].slip", 'only with faces = "slip"'),
+    bad("slip-profile-without-slip-faces", [("fractures.0.slip_profile", "elliptic")], "fractures[0].slip_profile",
+        'only with faces = "slip"'),
+    bad("slip-profile-unknown", [("fractures.0.faces", "slip"), ("fractures.0.slip_profile", "parabolic")],
+        "fractures[0].slip_profile", '"uniform" | "elliptic"'),
+    bad("gap-negative", [("fractures.0.gap", -1e-4)], "fractures[0].gap", "must be >= 0"),
+    # boundary conditions
+    bad("bc-at-and-on", [("bc.2.on", "right")], "bc[2]", "not both"),
+    bad("bc-no-place", [("bc.2.at", DELETE)], "bc[2]", "missing place"),
+    bad("bc-no-condition", [("bc.2.displacement", DELETE)], "bc[2]", "no condition"),
+    bad("bc-two-conditions", [("bc.2.force", [1.0, 0.0])], "bc[2]", "two conditions"),
+    bad("bc-displacement-and-x", [("bc.2.displacement_x", 0.0)], "bc[2].displacement_x", "conflicts with displacement"),
+    bad("bc-conflicting-entries", [("bc.4", {"at": [2.0, 0.0], "displacement_x": 0.001})], "bc[4]",
+        "conflicts with bc[3]"),
+    bad("bc-point-inside", [("bc.2.at", [3.9, 1.0])], "bc[2].at", "not on the boundary"),
+    bad("bc-point-outside", [("bc.2.at", [4.5, 1.0])], "bc[2].at", "not on the boundary"),
+    bad("bc-point-at-crack-mouth", [("bc.3", {"at": [0.0, 0.5], "displacement_x": 0.0})], "bc[3].at", "mouth"),
+    bad("bc-unknown-boundary", [("bc.0.on", "rim")], "bc[0].on", 'no boundary named "rim"'),
+    bad("bc-boundary-typo", [("bc.0.on", "tpo")], "bc[0].on", "did you mean top?"),
+    bad("bc-force-on-boundary", [("bc.0", {"on": "top", "force": [0.0, 1.0]})], "bc[0].force", "acts at a point"),
+    bad("bc-traction-at-point", [("bc.0", {"at": [2.0, 2.0], "traction": [0.0, 1.0]})], "bc[0].traction",
+        "acts on a boundary"),
+    # body
+    bad("gravity-without-density", [("body", {"gravity": [0.0, -9.8]})], "body.gravity", "material.density > 0"),
+    # mesh
+    bad("mesh-size-zero", [("mesh.size", 0.0)], "mesh.size", "must be > 0"),
+    bad("tip-size-negative", [("mesh.tip_size", -0.01)], "mesh.tip_size", "must be > 0"),
+    bad("tip-size-not-below-size", [("mesh.tip_size", 0.2)], "mesh.tip_size", "smaller than mesh.size"),
+    bad("tip-size-vs-segment", [("mesh.size", 1.0), ("mesh.tip_size", 0.51)], "mesh.tip_size",
+        "shortest segment of fractures[1]"),
+    bad("rosette-reaches-boundary", [("fractures.0.points", [[1.0, 0.04], [2.0, 0.5]])], "mesh.tip_size",
+        "reaches the boundary"),
+    bad("rosette-reaches-fracture", [("fractures.2", {"points": [[2.03, 1.0], [3.0, 1.0]]})], "mesh.tip_size",
+        "fractures[0] end 1 (radius 0.05) reaches fractures[2]"),
+    bad("sectors-few", [("mesh.sectors", 4)], "mesh.sectors", "must be >= 8"),
+    # propagation
+    bad("steps-negative", [("propagation", {"steps": -1})], "propagation.steps", "must be >= 0"),
+    bad("length-zero", [("propagation", {"length": 0.0})], "propagation.length", "must be > 0"),
+    bad("alpha-zero", [("propagation", {"alpha": 0.0})], "propagation.alpha", "must be > 0"),
+    bad("load-unknown", [("propagation", {"load": "ramp"})], "propagation.load", '"scale" | "fixed"'),
+    bad("max-load-factor-zero", [("propagation", {"max_load_factor": 0.0})], "propagation.max_load_factor",
+        "must be > 0"),
+    # statically undetermined
+    bad("no-supports", [("bc", BASE["bc"][:2])], "bc", "translation x, translation y and rotation are free"),
+    bad("no-bc-at-all", [("bc", DELETE)], "bc", "statically undetermined"),
+    bad("one-pinned-point", [("bc.3", DELETE)], "bc", "rotation about (4, 1) is free"),
+    bad("rollers-on-left", [("bc", BASE["bc"][:2] + [{"on": "left", "displacement_x": 0.0}])], "bc",
+        "translation y is free"),
+    bad("rollers-on-bottom", [("bc", BASE["bc"][:2] + [{"on": "bottom", "displacement_y": 0.0}])], "bc",
+        "translation x is free"),
+    bad("two-x-rollers", [("bc.2", {"at": [4.0, 1.0], "displacement_x": 0.0})], "bc", "translation y is free"),
+    bad("disc-rim-x", [("domain", _DISC), ("fractures", _DISC_FRACTURE),
+                       ("bc", _DISC_BC[:2] + [{"on": "rim", "displacement_x": 0.0}])], "bc", "translation y is free"),
+]
+
+
+def _error(d) -> CaseError:
+    with pytest.raises(CaseError) as info:
+        Case.from_dict(d)
+    return info.value
+
+
+@pytest.mark.parametrize("changes, key, reason", INVALID)
+def test_invalid_case_names_key_and_reason(changes, key, reason):
+    err = _error(patched(*changes))
+    assert err.key == key, str(err)
+    assert reason in err.reason, str(err)
+    assert str(err) == f"{err.key}: {err.reason}"
+
+
+def test_base_is_valid():
+    case = Case.from_dict(BASE)
+    assert case.title == "base"
+    assert case.material == Material(E=1.0e10, nu=0.25, KIc=1.0e6, plane="strain", thickness=1.0, density=0.0)
+    assert [f.faces for f in case.fractures] == ["frictionless", "open"]
+    assert [bc.kind for bc in case.bcs] == ["traction", "traction", "displacement", "displacement"]
+    assert case.bcs[3] == BC("displacement", (0.0, 0.0), at=(2.0, 0.0), components=(True, False))
+    assert case.source is None
+
+
+def test_defaults():
+    d = patched(("material.plane", DELETE), ("title", DELETE))
+    case = Case.from_dict(d)
+    assert case.title == ""
+    assert case.material.plane == "stress"  # as the contract example
+    assert (case.material.thickness, case.material.density) == (1.0, 0.0)
+    f = case.fractures[1]
+    assert (f.faces, f.slip, f.gap, f.grow, f.slip_profile) == ("open", 0.0, 0.0, True, "uniform")
+    assert case.mesh == MeshOptions(size=0.2, tip_size=0.05, adaptive=True, sectors=16)
+    assert case.propagation == Propagation(length=0.05, steps=35, alpha=0.35, load="scale", max_load_factor=100.0)
+    assert case.body.gravity == (0.0, 0.0)
+    assert np.all(case.stress.tensor() == 0.0)
+
+
+def test_optional_sections_are_read():
+    d = patched(
+        ("material.density", 2700),
+        ("body", {"gravity": [0.0, -9.8]}),
+        ("stress", {"sxx": -1.0e7, "syy": -2.7e7}),
+        ("mesh.adaptive", False),
+        ("mesh.sectors", 8),
+        ("propagation", {"steps": 0, "length": 0.01, "alpha": 1, "load": "fixed", "max_load_factor": 5}),
+        ("fractures.0.faces", "slip"),
+        ("fractures.0.slip", 1e-4),
+        ("fractures.0.slip_profile", "elliptic"),
+        ("fractures.0.gap", 1e-5),
+        ("fractures.0.grow", False),
+    )
+    case = Case.from_dict(d)
+    assert case.material.density == 2700.0 and isinstance(case.material.density, float)
+    assert case.body.gravity == (0.0, -9.8)
+    assert np.allclose(case.stress.tensor(), [[-1.0e7, 0.0], [0.0, -2.7e7]])
+    assert case.mesh == MeshOptions(0.2, 0.05, False, 8)
+    assert case.propagation == Propagation(length=0.01, steps=0, alpha=1.0, load="fixed", max_load_factor=5.0)
+    f = case.fractures[0]
+    assert (f.faces, f.slip, f.slip_profile, f.gap, f.grow) == ("slip", 1e-4, "elliptic", 1e-5, False)
+
+
+def test_density_without_gravity_is_allowed():
+    assert Case.from_dict(patched(("material.density", 2700.0))).material.density == 2700.0
+
+
+def test_zero_gravity_needs_no_density():
+    assert Case.from_dict(patched(("body", {"gravity": [0.0, 0.0]}))).body.gravity == (0.0, 0.0)
+
+
+def test_displacement_x_and_y_together_are_one_condition():
+    case = Case.from_dict(patched(("bc.2", {"at": [4.0, 1.0], "displacement_x": 0.0, "displacement_y": 1e-3})))
+    assert case.bcs[2] == BC("displacement", (0.0, 1e-3), at=(4.0, 1.0), components=(True, True))
+
+
+def test_repeated_equal_condition_is_allowed():
+    assert len(Case.from_dict(patched(("bc.4", {"at": [2.0, 0.0], "displacement_x": 0.0}))).bcs) == 5
+
+
+def test_tips_skip_edge_crack_mouth():
+    case = Case.from_dict(BASE)
+    assert case.tips() == [Tip(0, 0, (1.0, 1.0)), Tip(0, 1, (2.0, 1.0)), Tip(1, 1, (0.5, 0.5))]
+
+
+def test_no_fractures_is_valid():
+    case = Case.from_dict(patched(("fractures", DELETE)))
+    assert case.fractures == () and case.tips() == []
+
+
+def test_fracture_points_are_read_only_arrays():
+    case = Case.from_dict(BASE)
+    pts = case.fracture_points()
+    assert pts[0].shape == (3, 2) and pts[0].dtype == np.float64
+    with pytest.raises(ValueError):
+        pts[0][0, 0] = 9.0
+    assert math.isclose(case.fractures[1].length, 0.5)
+
+
+def test_bc_points_are_distinct_points():
+    case = Case.from_dict(patched(("bc.4", {"at": [4.0, 1.0], "force": [1.0, 0.0]})))
+    pts = case.bc_points()
+    assert [tuple(p) for p in pts] == [(4.0, 1.0), (2.0, 0.0)]
+
+
+def test_at_load_scales_conditions_and_slip_only():
+    d = patched(("fractures.0.faces", "slip"), ("fractures.0.slip", 1e-4), ("stress", {"sxx": -1.0}))
+    case = Case.from_dict(d).at_load(2.5)
+    assert case.bcs[0].value == (0.0, 2.5e6)
+    assert case.bcs[3].components == (True, False)
+    assert math.isclose(case.fractures[0].slip, 2.5e-4)
+    assert case.stress.sxx == -1.0
+    assert np.array_equal(case.fractures[0].points, d["fractures"][0]["points"])
+
+
+def test_polygon_domain_and_edge_names():
+    case = Case.from_dict(patched(("domain", _POLYGON), ("bc", _POLYGON_BC)))
+    assert list(case.domain.boundary_names()) == ["edge0", "edge1", "edge2", "edge3"]
+
+
+def test_concave_polygon_with_fracture_inside():
+    d = patched(("domain", _L_SHAPE), ("bc", _POLYGON_BC[2:] + [{"on": "edge0", "displacement_y": 0.0}]),
+                ("fractures", [{"points": [[2.5, 0.5], [3.5, 1.5]]}, {"points": [[0.0, 0.5], [0.5, 0.5]]}]))
+    assert len(Case.from_dict(d).tips()) == 3
+
+
+def test_disc_rim_condition_counts_as_support():
+    d = patched(("domain", _DISC), ("fractures", _DISC_FRACTURE),
+                ("bc", _DISC_BC[:2] + [{"on": "rim", "displacement": [0.0, 0.0]}]))
+    assert Case.from_dict(d).bcs[2].on == "rim"
+
+
+def test_from_toml_reads_file_and_defaults_title(tmp_path):
+    path = tmp_path / "my_case.toml"
+    path.write_text(
+        '[material]\nE = 1e10\nnu = 0.2\nKIc = 1e6\n'
+        '[domain]\nshape = "disc"\ncenter = [0, 0]\nradius = 1\n'
+        '[[bc]]\nat = [-1, 0]\ndisplacement = [0, 0]\n[[bc]]\nat = [1, 0]\ndisplacement_y = 0\n'
+        '[mesh]\nsize = 0.1\ntip_size = 0.01\n'
+    )
+    case = Case.from_toml(path)
+    assert case.title == "my_case" and case.source == path
+    assert case.domain.length_scale() > 0
+
+
+def test_from_toml_syntax_error_is_a_case_error(tmp_path):
+    path = tmp_path / "broken.toml"
+    path.write_text("[material\nE = 1\n")
+    with pytest.raises(CaseError) as info:
+        Case.from_toml(path)
+    assert info.value.key == str(path) and "not valid TOML" in info.value.reason
+
+
+def test_from_toml_missing_file_is_a_case_error(tmp_path):
+    with pytest.raises(CaseError) as info:
+        Case.from_toml(tmp_path / "nope.toml")
+    assert "cannot read" in info.value.reason
+
+
+@pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
+def test_every_shipped_case_is_valid(path):
+    case = Case.from_toml(path)
+    assert case.title and case.fractures
+    assert path.read_text().startswith("#"), "each case starts with a comment saying what it reproduces"
+
+
+def test_brazilian_disc_45_matches_the_paper():
+    case = Case.from_toml(Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml")
+    f = case.fractures[0]
+    assert math.isclose(f.length, 0.01, rel_tol=1e-9)
+    d = f.points[-1] - f.points[0]
+    # 45 deg from the vertical load axis, turned counter-clockwise (KII > 0)
+    assert math.isclose(math.degrees(math.atan2(-d[0], d[1])), 45.0, rel_tol=1e-9)
+    assert f.faces == "frictionless"
+    forces = [bc for bc in case.bcs if bc.kind == "force"]
+    assert sum(bc.value[1] for bc in forces) == 0.0  # self-equilibrated: supports carry nothing
+    assert (case.material.E, case.material.nu, case.material.KIc, case.material.plane) == (15e9, 0.21, 2e6, "stress")
+    assert (case.mesh.size, case.mesh.tip_size, case.propagation.steps, case.propagation.length) == (
+        0.004, 0.0005, 34, 0.0005)
+    assert len(case.tips()) == 2
+
+
+def test_fracture_dataclass_scaled_keeps_points():
+    f = Fracture(np.zeros((2, 2)), faces="slip", slip=1.0)
+    assert f.scaled(3.0).slip == 3.0 and f.scaled(3.0).points is f.points

@@ -1,0 +1,153 @@
+"""The command line: `wingcrack check|sif|run CASE [-o OUTDIR] [--quiet] [--debug]`.
+
+Exit status (case contract): 0 done; 2 the case is invalid (one line
+``wingcrack: error: <key>: <reason>`` on stderr, no traceback); 1 the
+computation failed. Only this module parses arguments and prints.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import traceback
+from pathlib import Path
+
+from wingcrack import __version__
+from wingcrack.errors import CaseError, ComputationError
+
+PROG = "wingcrack"
+EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    # --quiet/--debug are accepted before or after the command; in the
+    # sub-parsers they default to SUPPRESS so they do not undo the main ones.
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--quiet", "-q", action="store_true", default=argparse.SUPPRESS,
+                        help="hide progress output")
+    common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show the traceback of an unexpected error")
+
+    p = argparse.ArgumentParser(prog=PROG, description="Wing-crack growth from pre-existing fractures, with contact.")
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    p.add_argument("--quiet", "-q", action="store_true", help="hide progress output")
+    p.add_argument("--debug", action="store_true", help="show the traceback of an unexpected error")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    check = sub.add_parser("check", parents=[common], help="validate a case, print what would run")
+    check.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
+    for name, text in (("sif", "one solve of the initial geometry, no growth"), ("run", "full propagation")):
+        c = sub.add_parser(name, parents=[common], help=text)
+        c.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
+        c.add_argument("-o", "--out", type=Path, required=True, metavar="OUTDIR", help="output directory")
+    return p
+
+
+def _error(message: str) -> None:
+    print(f"{PROG}: error: {message}", file=sys.stderr)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        from wingcrack.case import Case
+
+        case = Case.from_toml(args.case)
+        if args.command == "check":
+            if not args.quiet:
+                print(describe(case))
+            return EXIT_OK
+        from wingcrack import api  # DOLFINx is imported only for sif/run
+
+        getattr(api, args.command)(case, args.out, args.quiet)
+        return EXIT_OK
+    except CaseError as err:
+        _error(str(err))
+        return EXIT_INVALID
+    except ComputationError as err:
+        _error(str(err) or "the computation failed")
+        return EXIT_FAILED
+    except KeyboardInterrupt:
+        _error("interrupted")
+        return 130
+    except Exception as err:  # noqa: BLE001 - the CLI is the last line of defence
+        if args.debug:
+            traceback.print_exc()
+        detail = " ".join(str(err).split()) or "(no message)"
+        hint = "" if args.debug else " (run with --debug for the traceback)"
+        _error(f"unexpected {type(err).__name__}: {detail}{hint}")
+        return EXIT_FAILED
+
+
+# ---------------------------------------------------------------- `check` output
+
+
+def _g(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def _pt(p) -> str:
+    return f"({_g(p[0])}, {_g(p[1])})"
+
+
+def describe(case) -> str:
+    """A short human summary of what `sif`/`run` would compute for `case`."""
+    m, geo, msh, pr = case.material, case.domain, case.mesh, case.propagation
+    lines = [f"case: {case.title}" + (f"  [{case.source}]" if case.source else "")]
+    lines.append(f"domain: {_domain_text(case)}; boundaries: {', '.join(geo.boundary_names())}")
+    lines.append(
+        f"material: E {_g(m.E)} Pa, nu {_g(m.nu)}, KIc {_g(m.KIc)} Pa m^0.5, plane {m.plane}, "
+        f"thickness {_g(m.thickness)} m" + (f", density {_g(m.density)} kg/m^3" if m.density else "")
+    )
+    tips = case.tips()
+    mouths = 2 * len(case.fractures) - len(tips)
+    lines.append(
+        f"fractures: {len(case.fractures)}, tips: {len(tips)}" + (f", edge-crack mouths: {mouths}" if mouths else "")
+    )
+    for i, f in enumerate(case.fractures):
+        extra = f", slip {_g(f.slip)} m ({f.slip_profile})" if f.faces == "slip" else ""
+        extra += f", gap {_g(f.gap)} m" if f.gap else ""
+        lines.append(
+            f"  [{i}] {len(f.points)} points {_pt(f.points[0])} .. {_pt(f.points[-1])}, length {_g(f.length)} m, "
+            f"faces {f.faces}{extra}, {'grows' if f.grow else 'does not grow'}"
+        )
+    lines.append(f"bc: {len(case.bcs)}")
+    for i, bc in enumerate(case.bcs):
+        place = f"at {_pt(bc.at)}" if bc.at is not None else f"on {bc.on}"
+        if bc.kind == "displacement" and not all(bc.components):
+            c = 0 if bc.components[0] else 1
+            cond = f"displacement_{'xy'[c]} = {_g(bc.value[c])} m"
+        else:
+            unit = {"force": "N/m", "traction": "Pa", "displacement": "m"}[bc.kind]
+            cond = f"{bc.kind} {_pt(bc.value)} {unit}"
+        lines.append(f"  [{i}] {place}: {cond}")
+    if any(case.body.gravity):
+        lines.append(f"gravity: {_pt(case.body.gravity)} m/s^2")
+    s = case.stress
+    if s.sxx or s.syy or s.sxy:
+        lines.append(f"initial stress: sxx {_g(s.sxx)}, syy {_g(s.syy)}, sxy {_g(s.sxy)} Pa")
+    lines.append(
+        f"mesh: size {_g(msh.size)} m, tip_size {_g(msh.tip_size)} m, {msh.sectors} sectors per rosette, "
+        f"{'adaptive' if msh.adaptive else 'fixed'}"
+    )
+    load = f"load scaled (at most x{_g(pr.max_load_factor)})" if pr.load == "scale" else "load fixed"
+    lines.append(
+        f"propagation: at most {pr.steps} steps of at most {_g(pr.length)} m, alpha {_g(pr.alpha)}, {load}"
+    )
+    lines.append("ok: the case is valid")
+    return "\n".join(lines)
+
+
+def _domain_text(case) -> str:
+    d = case.domain
+    shape = getattr(d, "shape", "?")
+    if shape == "disc":
+        return f"disc, center {_pt(d.center)}, radius {_g(d.radius)} m"
+    if shape == "rectangle":
+        return f"rectangle, corner {_pt(d.corner)}, size {_g(d.size[0])} x {_g(d.size[1])} m"
+    if shape == "polygon":
+        return f"polygon with {len(d.points)} points"
+    return str(shape)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
