@@ -32,6 +32,7 @@ class SifResult:
     problem: object = None       # fem.elasticity.ElasticProblem (mesh, u)
     out: Path | None = None
     files: dict = field(default_factory=dict)
+    contact: object = None       # fem.contact_problem.ContactProblem
 
 
 class _Timer:
@@ -45,18 +46,21 @@ class _Timer:
         self._t = t
 
 
-def _status(case) -> str:
-    if any(f.faces != "open" for f in case.fractures):
-        return ("finished: crack faces treated as traction-free "
-                "(contact for 'frictionless'/'slip' faces is not implemented yet)")
-    return "finished"
+@dataclass
+class Solution:
+    """One solved geometry: mesh arrays, the fem problem, contact, SIFs."""
+    cm: object          # meshing.CrackMesh
+    problem: object     # fem.elasticity.ElasticProblem
+    contact: object     # fem.contact_problem.ContactProblem
+    tips: list          # TipSIF
 
 
-def solve_initial(case, timer: _Timer | None = None):
-    """Mesh, solve and compute SIFs of the case's initial geometry.
-
-    Returns (crack_mesh, problem, tips)."""
+def solve_initial(case, timer: _Timer | None = None, load_factor: float = 1.0) -> Solution:
+    """Mesh the case's initial geometry, solve with contact, compute SIFs."""
     from meshing.crack_mesh import crack_mesh
+
+    from .contact.constraints import constraint_rows
+    from .fem.contact_problem import ContactProblem
     from .fem.elasticity import ElasticProblem
     from .fem.mesh import to_dolfinx
     from .loads import case_loads
@@ -65,7 +69,7 @@ def solve_initial(case, timer: _Timer | None = None):
     timer = timer or _Timer()
     fractures = [np.asarray(f.points, float) for f in case.fractures]
     cm = crack_mesh(case.domain, fractures, case.bc_points(), case.mesh.size,
-                            case.mesh.tip_size, sectors=case.mesh.sectors)
+                    case.mesh.tip_size, sectors=case.mesh.sectors)
     timer.lap("mesh")
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
@@ -75,11 +79,26 @@ def solve_initial(case, timer: _Timer | None = None):
     timer.lap("assemble")
     problem.factorize()
     timer.lap("factorize")
-    problem.solve(1.0)
+    contact = ContactProblem(problem, constraint_rows(cm, case.fractures))
+    timer.lap("contact")
+    contact.solve(load_factor)
     timer.lap("solve")
-    tips = tip_sifs(problem, cm, fractures, case.domain, m.E, m.nu, m.plane, loads.sigma0)
+    forces = contact.nodal_forces(len(cm.x)) if contact.result is not None else None
+    tips = tip_sifs(problem, cm, fractures, case.domain, m.E, m.nu, m.plane, loads.sigma0,
+                    face_forces=forces)
     timer.lap("sif")
-    return cm, problem, tips
+    return Solution(cm, problem, contact, tips)
+
+
+def contact_summary(sol: Solution) -> dict:
+    c = sol.contact
+    rows = c.rows
+    out = {"pairs": int(len(sol.cm.pairs)), "rows": int(len(rows)), "closed": 0, "iterations": 0}
+    if c.result is not None:
+        out["closed"] = int(np.sum(c.result.active))
+        out["iterations"] = int(c.result.iterations)
+        out["kkt"] = c.result.kkt_residuals(rows.gap, rows.normal)
+    return out
 
 
 def _summary(case, status, steps):
@@ -120,11 +139,13 @@ def sif(case, out=None, quiet: bool = True) -> SifResult:
     from mpi4py import MPI
 
     timer = _Timer()
-    cm, problem, tips = solve_initial(case, timer)
+    sol = solve_initial(case, timer)
+    cm, problem, tips = sol.cm, sol.problem, sol.tips
     fm = problem.fm
     files = {}
-    status = _status(case)
+    status = "finished"
     if out is not None:
+        from .io.faces import closed_segments, write_faces
         from .io.fields import write_fields
         from .io.pictures import plot_fractures
         from .io.summary import write_summary
@@ -134,19 +155,21 @@ def sif(case, out=None, quiet: bool = True) -> SifResult:
             out.mkdir(parents=True, exist_ok=True)
         MPI.COMM_WORLD.barrier()
         files["fields"] = write_fields(out / "fields.vtu", problem, cm)
+        files["faces"] = write_faces(out / "faces.vtu", sol)
         if MPI.COMM_WORLD.rank == 0:
             files["picture"] = plot_fractures(
                 out / "fractures.png", case.domain,
                 [{"points": f.points, "origin": "pre-existing"} for f in case.fractures],
                 tips=[{"x": t.x, "y": t.y} for t in tips], rosette=case.mesh.tip_size,
-                title=case.title, mesh=cm)
+                title=case.title, mesh=cm, closed_segments=closed_segments(sol))
         timer.lap("output")
     seconds = dict(timer.seconds)
     seconds["total"] = sum(seconds.values())
-    contact = {"pairs": int(len(cm.pairs)), "closed": 0, "iterations": 0}
+    contact = contact_summary(sol)
     summary = _summary(case, status, [_step(0, 1.0, fm.num_dofs, fm.num_cells, tips, seconds, contact,
                                             KIc=case.material.KIc)])
     if out is not None and MPI.COMM_WORLD.rank == 0:
         files["summary"] = out / "summary.json"
         write_summary(files["summary"], summary)
-    return SifResult(tips, summary, seconds, fm.num_dofs, fm.num_cells, cm, problem, out, files)
+    return SifResult(tips, summary, seconds, fm.num_dofs, fm.num_cells, cm, problem, out, files,
+                     contact=sol.contact)

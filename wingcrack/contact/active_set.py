@@ -1,0 +1,92 @@
+"""Primal-dual active-set method (Hintermueller, Ito & Kunisch 2002; Hueber &
+Wohlmuth 2005) on the small pair system.
+
+With the elasticity factorised, the jumps depend on the multipliers through
+the dense pair compliance S = B^T K^-1 B:
+
+    jump(mu) = jump0 + S mu
+
+Normal rows: gap function gamma = jump + g >= 0, mu >= 0, mu gamma = 0,
+rewritten as mu = max(0, mu - c gamma). Tangential rows (prescribed slip):
+jump = s, always. The active set A = {mu - c gamma > 0} is updated until it
+repeats (converged); a set seen before that is not the last one is cycling.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ComputationError
+
+
+@dataclass
+class ActiveSetResult:
+    mu: np.ndarray          # (m,) multipliers (nodal forces, N/m)
+    jump: np.ndarray        # (m,) jumps (u+ - u-).v at the solution (m)
+    active: np.ndarray      # (m,) bool: normal rows in contact
+    iterations: int
+    history: list           # number of active normal rows per iteration
+
+    jump0: np.ndarray = None  # (m,) jumps without pair forces
+
+    def kkt_residuals(self, gap, normal) -> dict:
+        """Largest KKT violations on the normal rows, relative to the load
+        scale: the largest |mu| for forces, the largest jump without
+        contact (or with it) for gaps."""
+        normal = np.asarray(normal, bool)
+        g = self.jump[normal] + gap[normal]
+        mu = self.mu[normal]
+        mscale = max(np.max(np.abs(self.mu), initial=0.0), 1e-300)
+        jscale = max(np.max(np.abs(self.jump0), initial=0.0), np.max(np.abs(self.jump), initial=0.0),
+                     np.max(np.abs(gap), initial=0.0), 1e-300)
+        return {
+            "feasibility": float(max(0.0, -np.min(g, initial=0.0)) / jscale),
+            "sign": float(max(0.0, -np.min(mu, initial=0.0)) / mscale),
+            "complementarity": float(np.max(np.abs(mu * g), initial=0.0) / (mscale * jscale)),
+        }
+
+
+def solve_active_set(S, jump0, target, normal, c=None, active=None, max_iter=100) -> ActiveSetResult:
+    """S (m, m) compliance; jump0 (m,) jumps without multipliers; target (m,)
+    = -g on normal rows, the prescribed slip on tangential rows; normal (m,)
+    bool. `active`: initial contact set (default: the rows penetrating
+    without contact, i.e. jump0 < target)."""
+    S = np.asarray(S, float)
+    jump0 = np.asarray(jump0, float)
+    target = np.asarray(target, float)
+    normal = np.asarray(normal, bool)
+    m = len(jump0)
+    if m == 0:
+        return ActiveSetResult(np.zeros(0), jump0.copy(), np.zeros(0, bool), 0, [], jump0.copy())
+    if c is None:
+        # c turns a gap (m) into a force (N/m): the inverse mean compliance
+        c = 1.0 / np.mean(np.abs(np.diag(S)))
+    gap = -np.where(normal, target, 0.0)
+    A = (jump0 < target) & normal if active is None else (np.asarray(active, bool) & normal)
+    seen = {A.tobytes()}
+    history = []
+    for it in range(1, max_iter + 1):
+        rows = A | ~normal
+        mu = np.zeros(m)
+        if rows.any():
+            idx = np.flatnonzero(rows)
+            try:
+                mu[idx] = np.linalg.solve(S[np.ix_(idx, idx)], target[idx] - jump0[idx])
+            except np.linalg.LinAlgError:
+                raise ComputationError("contact: the pair system is singular (a pair is held by a "
+                                       "displacement condition on both faces?)") from None
+        jump = jump0 + S @ mu
+        if not np.all(np.isfinite(jump)):
+            raise ComputationError("contact: NaN in the active-set iteration")
+        gamma = jump + gap
+        A_new = normal & (mu - c * gamma > 0)
+        history.append(int(A.sum()))
+        if np.array_equal(A_new, A):
+            return ActiveSetResult(mu, jump, A, it, history, jump0)
+        key = A_new.tobytes()
+        if key in seen:
+            raise ComputationError(f"contact: the active set cycles after {it} iterations")
+        seen.add(key)
+        A = A_new
+    raise ComputationError(f"contact: the active set did not converge in {max_iter} iterations")

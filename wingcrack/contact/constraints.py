@@ -1,0 +1,128 @@
+"""Constraint rows on the matched node pairs of the fracture faces.
+
+Each pair (plus, minus) of coinciding nodes on the + and - faces gives
+- a normal row: the opening w = (u+ - u-).n, with n the unit left normal of
+  the fracture direction (pointing from the - face into the + side);
+  non-penetration w + g >= 0 (g the initial gap), on "frictionless" and
+  "slip" faces;
+- a tangential row (only on "slip" faces): the slip s = (u+ - u-).t,
+  t = fracture direction, equals the prescribed slip times the load factor.
+Pairs on "open" faces carry no row. Tips are not pairs.
+
+Multipliers mu act as nodal forces +mu v on the + node and -mu v on the -
+node (v = n or t); mu >= 0 pushes the faces apart. Per unit length, the
+normal traction on the faces is sigma_nn = -mu / w_p, with w_p the integral
+of the node's P2 shape function along the face (its tributary length).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _kernels as K
+
+NORMAL, TANGENTIAL = 0, 1
+
+
+@dataclass
+class ConstraintRows:
+    plus: np.ndarray       # (m,) CrackMesh node on the + face
+    minus: np.ndarray      # (m,) node on the - face
+    direction: np.ndarray  # (m, 2) n (normal rows) or t (tangential rows)
+    kind: np.ndarray       # (m,) NORMAL | TANGENTIAL
+    pair: np.ndarray       # (m,) index into CrackMesh.pairs
+    fracture: np.ndarray   # (m,)
+    gap: np.ndarray        # (m,) initial gap g (normal rows; 0 otherwise)
+    slip: np.ndarray       # (m,) prescribed slip at load factor 1 (tangential rows)
+    weight: np.ndarray     # (m,) tributary length of the pair's nodes (m)
+    position: np.ndarray   # (m, 2)
+
+    def __len__(self):
+        return len(self.plus)
+
+    @property
+    def normal(self) -> np.ndarray:
+        return self.kind == NORMAL
+
+
+def _gauss3():
+    x = np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
+    return (x + 1) / 2, np.array([5.0, 8.0, 5.0]) / 18
+
+
+def tributary_lengths(x: np.ndarray, edges: np.ndarray, num_nodes: int) -> np.ndarray:
+    """int N_k ds over the P2 face edges [a, b, mid], per node (quarter-point
+    edges included: the isoparametric map is integrated, not assumed affine)."""
+    s, wq = _gauss3()
+    # 1D P2 shape functions on [0, 1] in the order a (0), b (1), mid (1/2)
+    N = np.stack([(1 - s) * (1 - 2 * s), s * (2 * s - 1), 4 * s * (1 - s)])   # (3, q)
+    dN = np.stack([4 * s - 3, 4 * s - 1, 4 - 8 * s])
+    X = x[edges]                                     # (k, 3, 2)
+    dx = np.einsum("iq,kid->kqd", dN, X)             # (k, q, 2)
+    jac = np.linalg.norm(dx, axis=2)                 # (k, q)
+    contrib = np.einsum("iq,kq,q->ki", N, jac, wq)   # (k, 3)
+    w = np.zeros(num_nodes)
+    np.add.at(w, edges.ravel(), contrib.ravel())
+    return w
+
+
+def _arc_length(p, pts) -> float:
+    dist, _, seg, t = K.closest_point_on_polyline(np.asarray(p, float), pts)
+    lengths = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    return float(np.sum(lengths[:seg]) + t * lengths[seg])
+
+
+def slip_profile(fracture, position) -> float:
+    """Prescribed slip (load factor 1) at `position` on `fracture`.
+
+    "uniform": the value everywhere (a dislocation at the tips, as in the
+    paper). "elliptic": slip * sqrt(1 - (xi/a)^2), xi the arc length from the
+    fracture's middle and a its half-length: the slip of a crack under a
+    uniform shear stress drop tau, slip = (kappa + 1) tau a / (2 mu)."""
+    if fracture.slip_profile == "elliptic":
+        pts = np.asarray(fracture.points, float)
+        L = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+        xi = _arc_length(position, pts) - L / 2
+        return fracture.slip * np.sqrt(max(0.0, 1.0 - (xi / (L / 2)) ** 2))
+    return fracture.slip
+
+
+def constraint_rows(cm, fractures) -> ConstraintRows:
+    """Rows for every pair of the CrackMesh `cm`; `fractures` are the case's
+    Fracture objects (faces, gap, slip, slip_profile), in mesh order."""
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    normals = np.asarray(cm.pair_normal, float).reshape(-1, 2)
+    pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
+    w_node = tributary_lengths(np.asarray(cm.x), np.asarray(cm.crack_edges, dtype=np.int64), len(cm.x))
+    rows = {k: [] for k in ("plus", "minus", "direction", "kind", "pair", "fracture", "gap", "slip", "weight", "position")}
+
+    def add(i, v, kind, gap, slip):
+        plus, minus = pairs[i]
+        rows["plus"].append(plus)
+        rows["minus"].append(minus)
+        rows["direction"].append(v)
+        rows["kind"].append(kind)
+        rows["pair"].append(i)
+        rows["fracture"].append(pfrac[i])
+        rows["gap"].append(gap)
+        rows["slip"].append(slip)
+        rows["weight"].append(w_node[plus])
+        rows["position"].append(cm.x[plus])
+
+    for i in range(len(pairs)):
+        f = fractures[pfrac[i]]
+        if f.faces == "open":
+            continue
+        n = normals[i]
+        add(i, n, NORMAL, f.gap, 0.0)
+        if f.faces == "slip":
+            t = np.array([n[1], -n[0]])
+            add(i, t, TANGENTIAL, 0.0, slip_profile(f, cm.x[pairs[i, 0]]))
+    m = len(rows["plus"])
+    return ConstraintRows(
+        plus=np.array(rows["plus"], dtype=np.int64), minus=np.array(rows["minus"], dtype=np.int64),
+        direction=np.array(rows["direction"], float).reshape(m, 2), kind=np.array(rows["kind"], dtype=np.int8),
+        pair=np.array(rows["pair"], dtype=np.int64), fracture=np.array(rows["fracture"], dtype=np.int64),
+        gap=np.array(rows["gap"], float), slip=np.array(rows["slip"], float),
+        weight=np.array(rows["weight"], float), position=np.array(rows["position"], float).reshape(m, 2))

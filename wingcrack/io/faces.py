@@ -1,0 +1,64 @@
+"""The fracture faces as a polyline file: opening, slip, normal traction and
+contact state at every face node of the + face (VTU through meshio)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def face_state(sol) -> dict:
+    """Per pair: position, opening w = [u].n, slip s = [u].t (m), normal
+    traction sigma_nn (Pa, <= 0 in contact) and closed (bool)."""
+    from ..fem.nodal import nodal_displacements
+
+    cm = sol.cm
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
+    t = np.c_[n[:, 1], -n[:, 0]]
+    up = nodal_displacements(sol.problem.fm, sol.problem.u, pairs[:, 0])
+    um = nodal_displacements(sol.problem.fm, sol.problem.u, pairs[:, 1])
+    jump = up - um
+    traction = np.zeros(len(pairs))
+    closed = np.zeros(len(pairs), bool)
+    c = sol.contact
+    if c is not None and c.result is not None:
+        rows = c.rows
+        normal = rows.normal
+        traction[rows.pair[normal]] = c.normal_traction()[normal]
+        closed[rows.pair[normal]] = c.result.active[normal]
+    return {"position": np.asarray(cm.x)[pairs[:, 0]], "opening": np.sum(jump * n, axis=1),
+            "slip": np.sum(jump * t, axis=1), "normal_traction": traction, "closed": closed,
+            "plus": pairs[:, 0]}
+
+
+def closed_segments(sol) -> list:
+    """Crack edges (+ face) whose two vertices are closed pairs, as segments."""
+    st = face_state(sol)
+    closed_nodes = set(st["plus"][st["closed"]].tolist())
+    x = np.asarray(sol.cm.x)
+    return [(x[a], x[b]) for a, b, _ in np.asarray(sol.cm.crack_edges)
+            if a in closed_nodes and b in closed_nodes]
+
+
+def write_faces(path: Path, sol) -> Path:
+    """line3 cells of the + faces; point data at the + face nodes (zero at
+    tips, which are not pairs)."""
+    import meshio
+
+    cm = sol.cm
+    st = face_state(sol)
+    edges = np.asarray(cm.crack_edges, dtype=np.int64)
+    nodes, local = np.unique(edges, return_inverse=True)
+    index = {int(v): i for i, v in enumerate(nodes)}
+    data = {k: np.zeros(len(nodes)) for k in ("opening", "slip", "normal_traction", "closed")}
+    for j, p in enumerate(st["plus"]):
+        i = index.get(int(p))
+        if i is not None:
+            for k in data:
+                data[k][i] = float(st[k][j])
+    pts = np.c_[np.asarray(cm.x)[nodes], np.zeros(len(nodes))]
+    frac = np.asarray(cm.crack_fracture, dtype=np.int64)
+    meshio.Mesh(pts, [("line3", local.reshape(-1, 3))], point_data=data,
+                cell_data={"fracture": [frac]}).write(Path(path))
+    return Path(path)
