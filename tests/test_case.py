@@ -263,7 +263,7 @@ def test_defaults():
     assert (case.material.thickness, case.material.density) == (1.0, 0.0)
     f = case.fractures[1]
     assert (f.faces, f.slip, f.gap, f.grow, f.slip_profile) == ("open", 0.0, 0.0, True, "uniform")
-    assert case.mesh == MeshOptions(size=0.2, tip_size=0.05, adaptive=True, sectors=16)
+    assert case.mesh == MeshOptions(size=0.2, tip_size=0.05, adaptive=True, sectors=32)
     assert case.propagation == Propagation(length=0.05, steps=35, alpha=0.35, load="scale", max_load_factor=100.0)
     assert case.body.gravity == (0.0, 0.0)
     assert np.all(case.stress.tensor() == 0.0)

@@ -149,13 +149,14 @@ class MeshOptions:
     tip_size: crack-tip rosette radius h (m), required, < size and < the
     shortest fracture segment. adaptive: error-estimator-driven sizing between
     steps, default True. sectors: elements in a tip rosette, int >= 8,
-    default 16 (below 16 only for convergence studies).
+    default 32: displacement correlation's KII is 0.7% off with 16 sectors,
+    0.3% with 32 (see the README); below 16 only for convergence studies.
     """
 
     size: float
     tip_size: float
     adaptive: bool = True
-    sectors: int = 16
+    sectors: int = 32
 
 
 @dataclass(frozen=True)
@@ -462,12 +463,12 @@ def _check_polygon(pts: np.ndarray, key: str) -> None:
             raise CaseError(key, f"edge{i} has zero length (points {i} and {(i + 1) % len(pts)} coincide)")
     # Shoelace: twice the signed area, > 0 counter-clockwise.
     area2 = float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
-    if _kernels.polyline_self_intersects(pts, tol):
+    if _kernels.polyline_self_intersects(pts, REL_TOL):
         raise CaseError(key, "the polygon intersects itself")
     n = len(pts)
     # The closing edge (n-1 -> 0) against every edge not adjacent to it.
     for j in range(1, n - 2):
-        hit = _kernels.segment_intersection(pts[n - 1], pts[0], pts[j], pts[j + 1], tol)[0]
+        hit = _kernels.segment_intersection(pts[n - 1], pts[0], pts[j], pts[j + 1], REL_TOL)[0]
         if hit:
             raise CaseError(key, f"the polygon intersects itself (edge{n - 1} meets edge{j})")
     if abs(area2) <= tol * extent:
@@ -547,9 +548,9 @@ def _parse_mesh(t: _Table) -> MeshOptions:
     if tip >= size:
         raise CaseError(t.key("tip_size"), f"must be smaller than mesh.size ({tip:g} >= {size:g})")
     adaptive = t.boolean("adaptive", True)
-    sectors = t.integer("sectors", 16)
+    sectors = t.integer("sectors", 32)
     if sectors < 8:
-        raise CaseError(t.key("sectors"), f"must be >= 8 (16 recommended), got {sectors}")
+        raise CaseError(t.key("sectors"), f"must be >= 8 (32 recommended), got {sectors}")
     return MeshOptions(size, tip, adaptive, sectors)
 
 
@@ -626,7 +627,7 @@ def _check_fracture_geometry(pts: np.ndarray, key: str, domain, tol: float) -> N
     for i, s in enumerate(seg):
         if s <= tol:
             raise CaseError(key, f"segment {i} (points {i} and {i + 1}) has zero length")
-    if len(pts) > 2 and _kernels.polyline_self_intersects(pts, tol):
+    if len(pts) > 2 and _kernels.polyline_self_intersects(pts, REL_TOL):
         raise CaseError(key, "the polyline intersects itself")
     n = len(pts)
     for i, p in enumerate(pts):
@@ -646,7 +647,7 @@ def _check_fracture_geometry(pts: np.ndarray, key: str, domain, tol: float) -> N
         m = len(poly)
         for i in range(n - 1):
             for j in range(m):
-                hit, _, _, x = _kernels.segment_intersection(pts[i], pts[i + 1], poly[j], poly[(j + 1) % m], tol)
+                hit, _, _, x = _kernels.segment_intersection(pts[i], pts[i + 1], poly[j], poly[(j + 1) % m], REL_TOL)
                 if not hit:
                     continue
                 x = np.asarray(x)
@@ -660,7 +661,7 @@ def _check_fracture_geometry(pts: np.ndarray, key: str, domain, tol: float) -> N
 def _check_fractures_apart(polylines: list[np.ndarray], tol: float) -> None:
     for i in range(len(polylines)):
         for j in range(i + 1, len(polylines)):
-            if _kernels.polylines_intersect(polylines[i], polylines[j], tol):
+            if _kernels.polylines_intersect(polylines[i], polylines[j], REL_TOL):
                 raise CaseError(f"fractures[{j}].points", f"crosses or touches fractures[{i}]")
 
 
