@@ -131,29 +131,54 @@ def _step(step, load_factor, dofs, cells, tips, seconds, contact=None, KIc=None)
     }
 
 
-def sif(case, out=None, quiet: bool = True) -> SifResult:
-    """One solve of the initial geometry and the SIFs of every tip.
+def _prepare_out(out):
+    from mpi4py import MPI
 
-    With `out`, writes summary.json, fractures.png and fields.vtu there.
+    out = Path(out)
+    if MPI.COMM_WORLD.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    MPI.COMM_WORLD.barrier()
+    return out
+
+
+def _write_failure(case, out, reason: str, steps=()):
+    from mpi4py import MPI
+
+    from .io.summary import write_summary
+
+    if out is not None and MPI.COMM_WORLD.rank == 0:
+        write_summary(Path(out) / "summary.json", _summary(case, f"failed: {reason}", list(steps)))
+
+
+def sif(case, out=None, quiet: bool = True, status: str = "finished") -> SifResult:
+    """One solve of the initial geometry (with contact on non-open faces) and
+    the SIFs of every tip.
+
+    With `out`, writes summary.json, fractures.png, fields.vtu (displacement,
+    stress) and faces.vtu (opening, slip, contact traction) there. A failed
+    computation raises ComputationError after writing a summary whose status
+    is "failed: <reason>".
     """
     from mpi4py import MPI
 
+    from .errors import ComputationError
+
+    if out is not None:
+        out = _prepare_out(out)
     timer = _Timer()
-    sol = solve_initial(case, timer)
+    try:
+        sol = solve_initial(case, timer)
+    except ComputationError as err:
+        _write_failure(case, out, str(err))
+        raise
     cm, problem, tips = sol.cm, sol.problem, sol.tips
     fm = problem.fm
     files = {}
-    status = "finished"
     if out is not None:
         from .io.faces import closed_segments, write_faces
         from .io.fields import write_fields
         from .io.pictures import plot_fractures
-        from .io.summary import write_summary
 
-        out = Path(out)
-        if MPI.COMM_WORLD.rank == 0:
-            out.mkdir(parents=True, exist_ok=True)
-        MPI.COMM_WORLD.barrier()
         files["fields"] = write_fields(out / "fields.vtu", problem, cm)
         files["faces"] = write_faces(out / "faces.vtu", sol)
         if MPI.COMM_WORLD.rank == 0:
@@ -165,11 +190,18 @@ def sif(case, out=None, quiet: bool = True) -> SifResult:
         timer.lap("output")
     seconds = dict(timer.seconds)
     seconds["total"] = sum(seconds.values())
-    contact = contact_summary(sol)
-    summary = _summary(case, status, [_step(0, 1.0, fm.num_dofs, fm.num_cells, tips, seconds, contact,
-                                            KIc=case.material.KIc)])
+    summary = _summary(case, status, [_step(0, 1.0, fm.num_dofs, fm.num_cells, tips, seconds,
+                                            contact_summary(sol), KIc=case.material.KIc)])
     if out is not None and MPI.COMM_WORLD.rank == 0:
+        from .io.summary import write_summary
+
         files["summary"] = out / "summary.json"
         write_summary(files["summary"], summary)
     return SifResult(tips, summary, seconds, fm.num_dofs, fm.num_cells, cm, problem, out, files,
                      contact=sol.contact)
+
+
+def run(case, out=None, quiet: bool = True) -> SifResult:
+    """Propagation (not implemented yet): solves step 0 as `sif` does and
+    stops, saying so in the status."""
+    return sif(case, out, quiet, status="stopped: propagation is not implemented yet (step 0 solved)")

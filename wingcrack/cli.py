@@ -58,7 +58,10 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_OK
         from wingcrack import api  # DOLFINx is imported only for sif/run
 
-        getattr(api, args.command)(case, args.out, args.quiet)
+        result = getattr(api, args.command)(case, args.out, args.quiet)
+        if result is not None:  # where the results are, even with --quiet
+            print(f"{PROG}: {result.summary['status']}; results in {args.out}/: "
+                  + ", ".join(sorted(Path(p).name for p in result.files.values())))
         return EXIT_OK
     except CaseError as err:
         _error(str(err))

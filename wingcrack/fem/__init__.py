@@ -1,1 +1,16 @@
 """The DOLFINx layer: the only part of wingcrack that imports DOLFINx/PETSc."""
+import logging
+
+import ffcx  # noqa: F401  (configures the root logger: basicConfig)
+
+
+class _QuietCompiler(logging.Filter):
+    """Drop the INFO lines setuptools logs on the root logger while the
+    form compiler builds a kernel (it raises the root level to INFO)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not (record.name == "root" and record.levelno <= logging.INFO)
+
+
+for _handler in logging.getLogger().handlers:
+    _handler.addFilter(_QuietCompiler())
