@@ -63,6 +63,7 @@ def solve_initial(case, timer: _Timer | None = None, load_factor: float = 1.0) -
     from .fem.contact_problem import ContactProblem
     from .fem.elasticity import ElasticProblem
     from .fem.mesh import to_dolfinx
+    from .fem.pair_operator import PairOperator
     from .loads import case_loads
     from .tip_sifs import tip_sifs
 
@@ -76,10 +77,11 @@ def solve_initial(case, timer: _Timer | None = None, load_factor: float = 1.0) -
     m = case.material
     loads = case_loads(case, cm)
     problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
+    rows = constraint_rows(cm, case.fractures)
     timer.lap("assemble")
-    problem.factorize()
+    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None)
     timer.lap("factorize")
-    contact = ContactProblem(problem, constraint_rows(cm, case.fractures))
+    contact = ContactProblem(problem, rows)
     timer.lap("contact")
     contact.solve(load_factor)
     timer.lap("solve")

@@ -137,9 +137,25 @@ class ElasticProblem:
         return out
 
     # -- solve --------------------------------------------------------------
-    def factorize(self):
+    def factorize(self, schur_dofs=None):
+        """Factorise K (MUMPS Cholesky). With `schur_dofs` (owned local dofs,
+        one process), MUMPS also returns the Schur complement on them (see
+        fem.schur): the contact pair system then costs no extra solves."""
+        from . import schur
+
+        self.schur_dofs = None
+        if schur_dofs is not None and len(schur_dofs) and schur.available(self.fm.mesh.comm):
+            pc = self.solver.getPC()
+            pc.setFactorSetUpSolverType()
+            schur.set_schur_dofs(pc.getFactorMatrix(), schur_dofs)
+            self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)
         self.solver.setUp()
         self._factored = True
+
+    def schur_complement(self) -> np.ndarray:
+        from . import schur
+
+        return schur.schur_complement(self.solver.getPC().getFactorMatrix(), len(self.schur_dofs))
 
     def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
         self.load_factor.value = load_factor

@@ -1,12 +1,15 @@
-"""The pair operator: B (dofs x rows), Z = K^-1 B and S = B^T K^-1 B.
+"""The pair operator: B (dofs x rows) and the pair compliance S = B^T K^-1 B.
 
 Column j of B holds +v_j at the + node's dofs and -v_j at the - node's, so
-B^T u are the jumps (u+ - u-).v_j and B mu are the pair forces. Z costs one
-multi-right-hand-side back-substitution with the factor that the plain solve
-already has (MUMPS MatMatSolve), once per mesh; after that every active-set
-iteration, load factor or slip value is a small dense solve. Rows of B at
-Dirichlet dofs are zeroed for the force side (a prescribed dof takes no
-force), but kept for measuring jumps.
+B^T u are the jumps (u+ - u-).v_j and B mu are the pair forces. S comes from
+the Schur complement S_c of K on the pair dofs P that MUMPS computes during
+the factorisation ((K^-1)_PP = S_c^-1; see fem.schur), or, where that is not
+available (several processes), from Z = K^-1 B by one multi-right-hand-side
+back-substitution. Either way it is built once per mesh; every active-set
+iteration, load factor or slip value is then a small dense solve, and the
+pair forces' response is one more back-substitution. Rows of B at Dirichlet
+dofs are zeroed for the force side (a prescribed dof takes no force), but
+kept for measuring jumps.
 """
 from __future__ import annotations
 
@@ -46,6 +49,15 @@ class PairOperator:
             dofs, _ = bc.dof_indices()
             dofs = np.asarray(dofs)
             B_free[dofs[dofs < self.n_owned]] = 0.0
+        self.B_free = B_free
+        self.Z = None
+        if getattr(problem, "schur_dofs", None) is not None:
+            P = problem.schur_dofs
+            Sc = problem.schur_complement()
+            BP = B_free[P]
+            self.S = BP.T @ np.linalg.solve(Sc, BP)
+            self.S = 0.5 * (self.S + self.S.T)
+            return
 
         # Z = K^-1 B_free by MUMPS' multi-RHS solve with a sparse right-hand
         # side (B^T given as AIJ behind a transpose wrapper: ICNTL(20) sparse
@@ -80,7 +92,32 @@ class PairOperator:
         return self.problem.fm.mesh.comm.allreduce(self.B.T @ u_owned)
 
     def add_forces(self, u, mu: np.ndarray) -> None:
-        """u += Z mu (the response to the pair forces), then update ghosts."""
-        arr = u.vector.getArray()
-        arr += self.Z @ mu
+        """u += K^-1 B mu (the response to the pair forces), then update ghosts."""
+        if self.Z is not None:
+            arr = u.vector.getArray()
+            arr += self.Z @ mu
+        else:
+            p = self.problem
+            rhs = p.b.duplicate()
+            rhs.getArray()[:] = self.B_free @ mu
+            du = rhs.duplicate()
+            p.solver.solve(rhs, du)
+            u.vector.axpy(1.0, du)
+            rhs.destroy()
+            du.destroy()
         u.x.scatter_forward()
+
+    @staticmethod
+    def pair_dofs(fm, rows) -> np.ndarray:
+        """Owned local dofs touched by the rows (the Schur set)."""
+        imap = fm.V.dofmap.index_map
+        order = np.argsort(fm.original)
+        nodes = np.unique(np.r_[rows.plus, rows.minus])
+        if len(order) == 0 or len(nodes) == 0:
+            return np.zeros(0, dtype=np.int64)
+        pos = np.minimum(np.searchsorted(fm.original, nodes, sorter=order), len(order) - 1)
+        local = order[pos]
+        found = fm.original[local] == nodes
+        blk = fm.node_dof[local[found]]
+        blk = np.unique(blk[blk < imap.size_local])
+        return np.sort(np.r_[2 * blk, 2 * blk + 1]).astype(np.int64)
