@@ -55,8 +55,12 @@ class Solution:
     tips: list          # TipSIF
 
 
-def solve_initial(case, timer: _Timer | None = None, load_factor: float = 1.0) -> Solution:
-    """Mesh the case's initial geometry, solve with contact, compute SIFs."""
+def build(case, fractures, timer: _Timer, mesh_kwargs=None):
+    """Mesh `fractures` (case Fracture or GrowingFracture objects, with
+    .points) in the case's domain, assemble, factorise (with the Schur
+    complement on the contact pair dofs) and set up contact.
+
+    Returns (crack_mesh, problem, contact)."""
     from meshing.crack_mesh import crack_mesh
 
     from .contact.constraints import constraint_rows
@@ -65,29 +69,42 @@ def solve_initial(case, timer: _Timer | None = None, load_factor: float = 1.0) -
     from .fem.mesh import to_dolfinx
     from .fem.pair_operator import PairOperator
     from .loads import case_loads
-    from .tip_sifs import tip_sifs
 
-    timer = timer or _Timer()
-    fractures = [np.asarray(f.points, float) for f in case.fractures]
-    cm = crack_mesh(case.domain, fractures, case.bc_points(), case.mesh.size,
-                    case.mesh.tip_size, sectors=case.mesh.sectors)
+    polylines = [np.asarray(f.points, float) for f in fractures]
+    cm = crack_mesh(case.domain, polylines, case.bc_points(), case.mesh.size,
+                    case.mesh.tip_size, sectors=case.mesh.sectors, **(mesh_kwargs or {}))
     timer.lap("mesh")
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
     m = case.material
     loads = case_loads(case, cm)
     problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
-    rows = constraint_rows(cm, case.fractures)
+    rows = constraint_rows(cm, fractures)
     timer.lap("assemble")
     problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None)
     timer.lap("factorize")
     contact = ContactProblem(problem, rows)
     timer.lap("contact")
+    return cm, problem, contact
+
+
+def all_sifs(case, cm, problem, contact, polylines):
+    """TipSIF of every tip (both methods) for the current solution."""
+    from .tip_sifs import tip_sifs
+
+    m = case.material
+    forces = contact.nodal_forces(len(cm.x)) if contact.result is not None else None
+    return tip_sifs(problem, cm, polylines, case.domain, m.E, m.nu, m.plane,
+                    case.stress.tensor(), face_forces=forces)
+
+
+def solve_initial(case, timer: _Timer | None = None, load_factor: float = 1.0) -> Solution:
+    """Mesh the case's initial geometry, solve with contact, compute SIFs."""
+    timer = timer or _Timer()
+    cm, problem, contact = build(case, case.fractures, timer)
     contact.solve(load_factor)
     timer.lap("solve")
-    forces = contact.nodal_forces(len(cm.x)) if contact.result is not None else None
-    tips = tip_sifs(problem, cm, fractures, case.domain, m.E, m.nu, m.plane, loads.sigma0,
-                    face_forces=forces)
+    tips = all_sifs(case, cm, problem, contact, [np.asarray(f.points, float) for f in case.fractures])
     timer.lap("sif")
     return Solution(cm, problem, contact, tips)
 
@@ -203,7 +220,8 @@ def sif(case, out=None, quiet: bool = True, status: str = "finished") -> SifResu
                      contact=sol.contact)
 
 
-def run(case, out=None, quiet: bool = True) -> SifResult:
-    """Propagation (not implemented yet): solves step 0 as `sif` does and
-    stops, saying so in the status."""
-    return sif(case, out, quiet, status="stopped: propagation is not implemented yet (step 0 solved)")
+def run(case, out=None, quiet: bool = True, progress=None):
+    """Grow the case's wing cracks (see wingcrack.propagation.loop.run)."""
+    from .propagation.loop import run as _run
+
+    return _run(case, out, quiet=quiet, progress=progress)

@@ -71,6 +71,22 @@ def _face_correction(cm, tip, face_forces, r_in, r_out, mu, kap):
     return lI - uI, lII - uII
 
 
+def correlation_sifs(problem, cm, E: float, nu: float, plane: str):
+    """(KI, KII) of every tip of `cm` by displacement correlation: cheap (four
+    nodal displacements a tip), used inside the critical-load search."""
+    tips = cm.tips
+    if not tips:
+        return np.zeros(0), np.zeros(0)
+    nodes = np.array([[t.upper[0], t.upper[1], t.lower[0], t.lower[1]] for t in tips], dtype=np.int64)
+    u = nodal_displacements(problem.fm, problem.u, nodes.ravel()).reshape(len(tips), 4, 2)
+    ex = np.array([t.ex for t in tips], float)
+    ey = np.array([t.ey for t in tips], float)
+    h = np.array([t.h for t in tips], float)
+    mu = E / (2 * (1 + nu))
+    KI, KII = K.displacement_correlation(u[:, 0], u[:, 1], u[:, 2], u[:, 3], ex, ey, h, mu, K.kappa(nu, plane))
+    return np.atleast_1d(KI), np.atleast_1d(KII)
+
+
 def tip_sifs(problem, cm, fractures, domain, E: float, nu: float, plane: str, sigma0,
              face_forces=None) -> list[TipSIF]:
     """SIFs of every tip of `cm`. face_forces: (nodes, 2) nodal forces on the
@@ -78,15 +94,9 @@ def tip_sifs(problem, cm, fractures, domain, E: float, nu: float, plane: str, si
     tips = cm.tips
     if not tips:
         return []
-    nodes = np.array([[t.upper[0], t.upper[1], t.lower[0], t.lower[1]] for t in tips], dtype=np.int64)
-    u = nodal_displacements(problem.fm, problem.u, nodes.ravel()).reshape(len(tips), 4, 2)
-    ex = np.array([t.ex for t in tips], float)
-    ey = np.array([t.ey for t in tips], float)
-    h = np.array([t.h for t in tips], float)
     mu = E / (2 * (1 + nu))
     kap = K.kappa(nu, plane)
-    KI, KII = K.displacement_correlation(u[:, 0], u[:, 1], u[:, 2], u[:, 3], ex, ey, h, mu, kap)
-    KI, KII = np.atleast_1d(KI), np.atleast_1d(KII)
+    KI, KII = correlation_sifs(problem, cm, E, nu, plane)
     theta = np.atleast_1d(K.mts_angle(KI, KII))
     Keq = np.atleast_1d(K.equivalent_k(KI, KII, theta))
     G = np.atleast_1d(K.energy_release_rate(KI, KII, E, nu, kap))

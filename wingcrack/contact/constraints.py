@@ -73,7 +73,19 @@ def _arc_length(p, pts) -> float:
     return float(np.sum(lengths[:seg]) + t * lengths[seg])
 
 
-def slip_profile(fracture, position) -> float:
+def _part(fracture, position, tol):
+    """(faces, gap, slip-bearing polyline) of the part of `fracture` at
+    `position`: its pre-existing polyline, or a wing grown from it (wings:
+    fracture.wing_faces(), no gap, no slip). Case fractures have no wings."""
+    pre = getattr(fracture, "pre_points", None)
+    if pre is None:
+        return fracture.faces, fracture.gap, np.asarray(fracture.points, float)
+    if K.point_polyline_distance(np.asarray(position, float), pre) <= tol:
+        return fracture.faces, fracture.gap, pre
+    return fracture.wing_faces(), 0.0, None
+
+
+def slip_profile(fracture, position, pts=None) -> float:
     """Prescribed slip (load factor 1) at `position` on `fracture`.
 
     "uniform": the value everywhere (a dislocation at the tips, as in the
@@ -81,7 +93,7 @@ def slip_profile(fracture, position) -> float:
     fracture's middle and a its half-length: the slip of a crack under a
     uniform shear stress drop tau, slip = (kappa + 1) tau a / (2 mu)."""
     if fracture.slip_profile == "elliptic":
-        pts = np.asarray(fracture.points, float)
+        pts = np.asarray(fracture.points if pts is None else pts, float)
         L = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
         xi = _arc_length(position, pts) - L / 2
         return fracture.slip * np.sqrt(max(0.0, 1.0 - (xi / (L / 2)) ** 2))
@@ -90,7 +102,8 @@ def slip_profile(fracture, position) -> float:
 
 def constraint_rows(cm, fractures) -> ConstraintRows:
     """Rows for every pair of the CrackMesh `cm`; `fractures` are the case's
-    Fracture objects (faces, gap, slip, slip_profile), in mesh order."""
+    Fracture objects (faces, gap, slip, slip_profile) or the propagation's
+    GrowingFracture objects (whose wings get their own faces), in mesh order."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     normals = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
@@ -110,15 +123,18 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
         rows["weight"].append(w_node[plus])
         rows["position"].append(cm.x[plus])
 
+    x = np.asarray(cm.x)
+    tol = 1e-9 * float(np.ptp(x, axis=0).max()) if len(x) else 0.0
     for i in range(len(pairs)):
         f = fractures[pfrac[i]]
-        if f.faces == "open":
+        faces, gap, pts = _part(f, x[pairs[i, 0]], tol)
+        if faces == "open":
             continue
         n = normals[i]
-        add(i, n, NORMAL, f.gap, 0.0)
-        if f.faces == "slip":
+        add(i, n, NORMAL, gap, 0.0)
+        if faces == "slip":
             t = np.array([n[1], -n[0]])
-            add(i, t, TANGENTIAL, 0.0, slip_profile(f, cm.x[pairs[i, 0]]))
+            add(i, t, TANGENTIAL, 0.0, slip_profile(f, x[pairs[i, 0]], pts))
     m = len(rows["plus"])
     return ConstraintRows(
         plus=np.array(rows["plus"], dtype=np.int64), minus=np.array(rows["minus"], dtype=np.int64),

@@ -1,0 +1,73 @@
+"""The load factor at which the first tip reaches the toughness.
+
+Instead of the published code's creeping 1% load increase, the critical
+load factor is found directly:
+- positively homogeneous problems (no gap, no in-situ stress, no body force:
+  the response, contact included, scales with the load factor) need one
+  solve: lambda_c = lambda KIc / max K_eq(lambda);
+- otherwise a safeguarded secant (Illinois) iteration on the piecewise
+  linear f(lambda) = max K_eq(lambda) - KIc, bracketed by doubling, to a
+  relative tolerance of 1e-6.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+
+@dataclass
+class CriticalLoad:
+    load_factor: float | None   # None: no tip reaches KIc below the limit
+    solves: int
+
+
+def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,
+                         homogeneous: bool, limit: float, rtol: float = 1e-6) -> CriticalLoad:
+    """keq(lam) -> largest K_eq over the growing tips at load factor lam.
+
+    The load only rises: the result is >= start. If K_eq(start) >= KIc, the
+    answer is start."""
+    solves = 0
+    if homogeneous:
+        k = keq(1.0)
+        solves += 1
+        if k <= 0:
+            return CriticalLoad(None, solves)
+        lam = max(start, KIc / k)
+        return CriticalLoad(lam if lam <= limit else None, solves)
+    lo = start
+    f_lo = keq(lo) - KIc
+    solves += 1
+    if f_lo >= 0:
+        return CriticalLoad(lo, solves)
+    hi = max(2.0 * lo, lo + 1.0) if lo > 0 else 1.0
+    while True:
+        f_hi = keq(hi) - KIc
+        solves += 1
+        if f_hi >= 0:
+            break
+        if hi >= limit:
+            return CriticalLoad(None, solves)
+        lo, f_lo = hi, f_hi
+        hi = min(2.0 * hi, limit)
+    # Illinois: secant with the retained end's value halved when it repeats
+    side = 0
+    for _ in range(200):
+        lam = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+        if not (lo < lam < hi):
+            lam = 0.5 * (lo + hi)
+        f = keq(lam) - KIc
+        solves += 1
+        if f >= 0:
+            hi, f_hi = lam, f
+            if side == 1:
+                f_lo *= 0.5
+            side = 1
+        else:
+            lo, f_lo = lam, f
+            if side == -1:
+                f_hi *= 0.5
+            side = -1
+        if hi - lo <= rtol * hi:
+            return CriticalLoad(hi, solves)
+    return CriticalLoad(hi, solves)

@@ -1,0 +1,93 @@
+"""The evolving fracture network: polylines that grow at their ends.
+
+Each fracture keeps its pre-existing polyline as points[pre[0]:pre[1]+1];
+wings are the parts before pre[0] (grown from end 0) and after pre[1]
+(grown from end 1). An end's state: "tip" (may grow), "joined" (ended on
+another fracture as a T), "boundary" (on the outer boundary: an edge-crack
+mouth or a wing that reached it).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+
+@dataclass
+class GrowingFracture:
+    points: np.ndarray
+    pre: tuple[int, int]
+    ends: list          # [state of end 0, state of end 1]
+    faces: str
+    gap: float
+    slip: float
+    slip_profile: str
+    grow: bool
+
+    @property
+    def pre_points(self) -> np.ndarray:
+        return self.points[self.pre[0]:self.pre[1] + 1]
+
+    def wing_faces(self) -> str:
+        """Wings are tensile cracks (paper eq. 8); where the fracture has
+        contact, they get non-penetration too (frictionless), never slip."""
+        return "open" if self.faces == "open" else "frictionless"
+
+    def tip(self, end: int) -> np.ndarray:
+        return self.points[-1] if end == 1 else self.points[0]
+
+    def extend(self, end: int, p) -> None:
+        p = np.asarray(p, float)[None, :]
+        if end == 1:
+            self.points = np.vstack([self.points, p])
+        else:
+            self.points = np.vstack([p, self.points])
+            self.pre = (self.pre[0] + 1, self.pre[1] + 1)
+
+    def move_tip(self, end: int, p) -> None:
+        """Move the tip node (straight growth shorter than L_min)."""
+        i = -1 if end == 1 else 0
+        self.points = self.points.copy()
+        self.points[i] = np.asarray(p, float)
+
+    def pieces(self) -> list:
+        """[(points, origin)] for the summary: wing at end 0, the
+        pre-existing part, wing at end 1 (wings only if grown)."""
+        out = []
+        if self.pre[0] > 0:
+            out.append((self.points[:self.pre[0] + 1], "wing"))
+        out.append((self.pre_points, "pre-existing"))
+        if self.pre[1] < len(self.points) - 1:
+            out.append((self.points[self.pre[1]:], "wing"))
+        return out
+
+
+@dataclass
+class FractureSet:
+    fractures: list = field(default_factory=list)
+
+    @classmethod
+    def from_case(cls, case) -> "FractureSet":
+        tol = 1e-9 * case.length_scale
+        out = []
+        for f in case.fractures:
+            pts = np.asarray(f.points, float).copy()
+            ends = ["boundary" if case.domain.on_boundary(p, tol) else "tip" for p in (pts[0], pts[-1])]
+            out.append(GrowingFracture(pts, (0, len(pts) - 1), ends, f.faces, f.gap, f.slip,
+                                       f.slip_profile, f.grow))
+        return cls(out)
+
+    def polylines(self) -> list:
+        return [f.points for f in self.fractures]
+
+    def active_tips(self) -> list:
+        """(fracture, end) of every end that may still grow."""
+        return [(i, e) for i, f in enumerate(self.fractures) if f.grow
+                for e in (0, 1) if f.ends[e] == "tip"]
+
+    def copy(self) -> "FractureSet":
+        return FractureSet([replace(f, points=f.points.copy(), ends=list(f.ends)) for f in self.fractures])
+
+    def summary(self) -> list:
+        return [{"points": p, "origin": o, "fracture": i}
+                for i, f in enumerate(self.fractures) for p, o in f.pieces()]

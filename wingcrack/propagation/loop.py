@@ -1,0 +1,230 @@
+"""The propagation loop (paper Fig. 8), one step at a time:
+
+    mesh the current fractures -> factorise (+ Schur complement for contact)
+    -> critical load factor (the first tip reaches KIc) -> solve + SIFs
+    -> advance the tips (MTS direction, Paris-type lengths, L_min rule)
+    -> join/stop tips at fractures and the boundary -> next step.
+
+summary.json is rewritten after every step; a failure keeps every finished
+step and says "failed: <reason>".
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .. import _kernels as K
+from ..errors import ComputationError
+from .critical_load import critical_load_factor
+from .fracture_set import FractureSet
+from .growth_law import STRAIGHT, advances
+from .joining import place_tip
+
+#: the join distance, in rosette radii (see joining.py)
+REACH = 1.5
+#: relative tolerance of "K_eq reached KIc". Tips that the discretisation
+#: cannot tell apart (displacement correlation is ~1e-3 accurate; the two
+#: tips of the symmetric disc differ by ~3e-5 on an unsymmetric mesh) grow
+#: together, as the symmetric physics says.
+KEQ_RTOL = 1e-3
+
+
+@dataclass
+class RunResult:
+    """A propagation run: steps (dicts as in summary.json), the final
+    fracture set, the status, and the last step's mesh and problem."""
+    status: str
+    steps: list
+    fractures: FractureSet
+    summary: dict
+    out: Path | None = None
+    files: dict = field(default_factory=dict)
+    mesh: object = None
+    problem: object = None
+    contact: object = None
+
+
+def _homogeneous(case, fset) -> bool:
+    """Does the whole response scale with the load factor?"""
+    m = case.material
+    body = m.density * np.linalg.norm(case.body.gravity)
+    return (case.propagation.load == "scale" and not np.any(case.stress.tensor())
+            and body == 0 and all(f.gap == 0 for f in fset.fractures))
+
+
+def _grow_index(cm, fset):
+    """Indices into cm.tips of the tips that may grow."""
+    active = set(fset.active_tips())
+    return [i for i, t in enumerate(cm.tips) if (int(t.fracture), int(t.end)) in active]
+
+
+def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float | None = 120.0) -> RunResult:
+    """Grow the case's fractures; see the module doc. `progress(step, info)`
+    is called after every step (the CLI's progress bar)."""
+    from mpi4py import MPI
+
+    from ..api import _Timer, _prepare_out, _step, _summary, all_sifs, build, contact_summary
+    from ..io.summary import write_summary
+
+    comm = MPI.COMM_WORLD
+    if out is not None:
+        out = _prepare_out(out)
+    fset = FractureSet.from_case(case)
+    mat, prop = case.material, case.propagation
+    Eprime = mat.E if mat.plane == "stress" else mat.E / (1 - mat.nu ** 2)
+    h = case.mesh.tip_size
+    lam = 0.0 if prop.load == "scale" else 1.0
+    steps, status = [], "finished"
+    last = (None, None, None)
+
+    def summary_now(st):
+        s = _summary(case, st, steps)
+        s["fractures"] = [{"points": np.asarray(p, float).tolist(), "origin": o, "fracture": i}
+                          for i, f in enumerate(fset.fractures) for p, o in f.pieces()]
+        return s
+
+    def write(st):
+        if out is not None and comm.rank == 0:
+            write_summary(out / "summary.json", summary_now(st))
+
+    for k in range(prop.steps):
+        timer = _Timer()
+        try:
+            cm, problem, contact = build(case, fset.fractures, timer, mesh_kwargs=_mesh_kwargs(mesh_timeout))
+            last = (cm, problem, contact)
+            grow = _grow_index(cm, fset)
+            if not grow:
+                status = "stopped: no tip can grow (every tip joined, at the boundary or not growing)"
+                break
+
+            def keq(load):
+                contact.solve(load)
+                KI, KII = _correlation(case, cm, problem)
+                th = K.mts_angle(KI[grow], KII[grow])
+                return float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
+
+            if prop.load == "scale":
+                crit = critical_load_factor(keq, mat.KIc, lam, _homogeneous(case, fset), prop.max_load_factor)
+                if crit.load_factor is None:
+                    status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}"
+                    break
+                lam = crit.load_factor
+            contact.solve(lam)
+            timer.lap("solve")
+            tips = all_sifs(case, cm, problem, contact, fset.polylines())
+            timer.lap("sif")
+
+            # -- growth ---------------------------------------------------
+            keqs = np.array([tips[i].K_eq for i in grow])
+            reached = keqs >= mat.KIc * (1 - KEQ_RTOL)
+            if prop.load == "fixed" and not reached.any():
+                status = "stopped: no tip reaches KIc under the fixed load"
+                steps.append(_step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
+                                   dict(timer.seconds), contact_summary(_Sol(cm, contact))))
+                break
+            G = np.where(reached, keqs ** 2 / Eprime, 0.0)
+            theta = np.array([tips[i].theta for i in grow])
+            L = advances(G, prop.length, prop.alpha, 0.4 * h, theta)
+            states = {i: "arrested" for i in range(len(tips))}
+            adv = {i: 0.0 for i in range(len(tips))}
+            for j, i in enumerate(grow):
+                if L[j] <= 0:
+                    continue
+                t = tips[i]
+                f = fset.fractures[t.fracture]
+                tipinfo = cm.tips[i]
+                d = np.cos(t.theta) * np.asarray(tipinfo.ex) + np.sin(t.theta) * np.asarray(tipinfo.ey)
+                p, state = place_tip(fset, t.fracture, t.end, d, L[j], case.domain, REACH * h)
+                a = f.tip(t.end)
+                if abs(t.theta) <= STRAIGHT and state == "tip" and L[j] < 0.4 * h:
+                    f.move_tip(t.end, p)       # straight on: move the tip node
+                else:
+                    f.extend(t.end, p)
+                f.ends[t.end] = state
+                states[i] = "growing" if state == "tip" else state
+                adv[i] = float(np.linalg.norm(p - a))
+            timer.lap("growth")
+            _check_no_crossing(fset)
+            step = _step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
+                         dict(timer.seconds), contact_summary(_Sol(cm, contact)))
+            for i, td in enumerate(step["tips"]):
+                td["state"], td["advance"] = states[i], adv[i]
+            step["solves"] = int(crit.solves) if prop.load == "scale" else 1
+            step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
+            steps.append(step)
+            if out is not None:
+                _write_step_fields(out, k, cm, problem, contact)
+            write("running" if k < prop.steps - 1 else status)
+            if progress is not None:
+                progress(k, step)
+        except ComputationError as err:
+            status = f"failed: step {k}: {err}"
+            write(status)
+            raise ComputationError(status) from None
+        except (RuntimeError, ValueError) as err:
+            status = f"failed: step {k}: {' '.join(str(err).split())}"
+            write(status)
+            raise ComputationError(status) from None
+    write(status)
+    result = RunResult(status, steps, fset, summary_now(status), out, mesh=last[0], problem=last[1], contact=last[2])
+    if out is not None and comm.rank == 0:
+        _final_picture(case, fset, out, result)
+    return result
+
+
+class _Sol:
+    def __init__(self, cm, contact):
+        self.cm, self.contact = cm, contact
+
+
+def _mesh_kwargs(timeout):
+    import inspect
+
+    from meshing.crack_mesh import crack_mesh
+
+    return {"timeout": timeout} if "timeout" in inspect.signature(crack_mesh).parameters and timeout else {}
+
+
+def _correlation(case, cm, problem):
+    from ..tip_sifs import correlation_sifs
+
+    m = case.material
+    return correlation_sifs(problem, cm, m.E, m.nu, m.plane)
+
+
+def _check_no_crossing(fset):
+    """Fractures never cross (they may touch at T-junctions)."""
+    polys = fset.polylines()
+    for i in range(len(polys)):
+        for j in range(i + 1, len(polys)):
+            a, b = polys[i], polys[j]
+            for s in range(len(a) - 1):
+                for r in range(len(b) - 1):
+                    hit, t, u, _ = K.segment_intersection(a[s], a[s + 1], b[r], b[r + 1], 1e-12)
+                    interior = 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9
+                    if hit and interior:
+                        raise ComputationError(f"fractures {i} and {j} cross")
+
+
+def _write_step_fields(out, k, cm, problem, contact):
+    from ..io.faces import write_faces
+    from ..io.fields import write_fields
+    from ..api import Solution
+
+    write_fields(out / f"step_{k:04d}.vtu", problem, cm)
+    write_faces(out / f"faces_{k:04d}.vtu", Solution(cm, problem, contact, []))
+
+
+def _final_picture(case, fset, out, result):
+    from ..io.pictures import plot_fractures
+
+    tips = [{"x": t["x"], "y": t["y"]} for t in (result.steps[-1]["tips"] if result.steps else [])]
+    result.files["picture"] = plot_fractures(
+        out / "fractures.png", case.domain,
+        [{"points": p, "origin": o} for p, o in (pc for f in fset.fractures for pc in f.pieces())],
+        tips=tips, rosette=case.mesh.tip_size, title=f"{case.title}: {len(result.steps)} steps",
+        mesh=result.mesh)
+    result.files["summary"] = out / "summary.json"
