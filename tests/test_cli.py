@@ -184,7 +184,7 @@ def fake_api(monkeypatch):
     api.behaviour = None
 
     def make(name):
-        def command(case, out, quiet):
+        def command(case, out, quiet, progress=None):
             api.calls.append((name, case, out, quiet))
             if api.behaviour is not None:
                 raise api.behaviour

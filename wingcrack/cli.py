@@ -58,7 +58,11 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_OK
         from wingcrack import api  # DOLFINx is imported only for sif/run
 
-        result = getattr(api, args.command)(case, args.out, args.quiet)
+        if args.command == "run":
+            with _progress(case, args.quiet) as progress:
+                result = api.run(case, args.out, args.quiet, progress=progress)
+        else:
+            result = api.sif(case, args.out, args.quiet)
         if result is not None:  # where the results are, even with --quiet
             print(f"{PROG}: {result.summary['status']}; results in {args.out}/: "
                   + ", ".join(sorted(Path(p).name for p in result.files.values())))
@@ -79,6 +83,36 @@ def main(argv: list[str] | None = None) -> int:
         hint = "" if args.debug else " (run with --debug for the traceback)"
         _error(f"unexpected {type(err).__name__}: {detail}{hint}")
         return EXIT_FAILED
+
+
+class _progress:
+    """A tqdm bar over the propagation steps (load factor, DOFs, closed
+    pairs, slowest phase), on stderr; nothing with --quiet."""
+
+    def __init__(self, case, quiet: bool):
+        self.total = case.propagation.steps
+        self.quiet = quiet
+        self.bar = None
+
+    def __enter__(self):
+        if not self.quiet:
+            from tqdm import tqdm
+
+            # disable=None: no bar when stderr is not a terminal (logs, CI)
+            self.bar = tqdm(total=self.total, unit="step", file=sys.stderr, dynamic_ncols=True, disable=None)
+        return self if self.bar is not None else None
+
+    def __call__(self, k, step):
+        secs = {p: v for p, v in step.get("seconds", {}).items() if p != "total"}
+        slow = max(secs, key=secs.get) if secs else "-"
+        self.bar.set_postfix_str(f"load {step['load_factor']:.4g}, {step['dofs']} DOFs, "
+                                 f"{step['contact']['closed']} closed, slowest {slow}")
+        self.bar.update(1)
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.close()
+        return False
 
 
 # ---------------------------------------------------------------- `check` output

@@ -7,6 +7,7 @@ namespace py = pybind11;
 void bind_geometry(py::module_& m);
 void bind_sif(py::module_& m);
 void bind_faces(py::module_& m);
+void bind_estimate(py::module_& m);
 
 PYBIND11_MODULE(_kernels, m) {
   m.doc() = "wingcrack C++ kernels: quarter-point geometry, SIF correlation, "
@@ -14,4 +15,5 @@ PYBIND11_MODULE(_kernels, m) {
   bind_geometry(m);
   bind_sif(m);
   bind_faces(m);
+  bind_estimate(m);
 }
