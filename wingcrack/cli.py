@@ -1,4 +1,4 @@
-"""The command line: `wingcrack check|sif|run CASE [-o OUTDIR] [--quiet] [--debug]`.
+"""The command line: `wingcrack check|sif|run|crosscheck CASE [-o OUTDIR] [--quiet] [--debug]`.
 
 Exit status (case contract): 0 done; 2 the case is invalid (one line
 ``wingcrack: error: <key>: <reason>`` on stderr, no traceback); 1 the
@@ -39,7 +39,23 @@ def _parser() -> argparse.ArgumentParser:
         c = sub.add_parser(name, parents=[common], help=text)
         c.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
         c.add_argument("-o", "--out", type=Path, required=True, metavar="OUTDIR", help="output directory")
+    x = sub.add_parser("crosscheck", parents=[common],
+                       help="solve with open faces by wingcrack and by scikit-fem on the same mesh, compare")
+    x.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
+    x.add_argument("-o", "--out", type=Path, metavar="OUTDIR", help="also write OUTDIR/crosscheck.json")
+    x.add_argument("--tol", type=_positive, default=None, metavar="TOL",
+                   help="largest relative difference of displacements and SIFs accepted (default 1e-6)")
     return p
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return value
 
 
 def _error(message: str) -> None:
@@ -56,6 +72,8 @@ def main(argv: list[str] | None = None) -> int:
             if not args.quiet:
                 print(describe(case))
             return EXIT_OK
+        if args.command == "crosscheck":
+            return _crosscheck(case, args)
         from wingcrack import api  # DOLFINx is imported only for sif/run
 
         if args.command == "run":
@@ -83,6 +101,48 @@ def main(argv: list[str] | None = None) -> int:
         hint = "" if args.debug else " (run with --debug for the traceback)"
         _error(f"unexpected {type(err).__name__}: {detail}{hint}")
         return EXIT_FAILED
+
+
+def _crosscheck(case, args) -> int:
+    from wingcrack.crosscheck import TOLERANCE, crosscheck
+
+    tol = args.tol or TOLERANCE
+    result = crosscheck(case)
+    report = dict(result.as_dict(), tolerance=tol, agree=result.agrees(tol))
+    if args.out is not None:
+        from wingcrack.io.summary import write_summary
+
+        write_summary(args.out / "crosscheck.json", report)
+    if not args.quiet:
+        print(crosscheck_text(report))
+    if not report["agree"]:
+        _error(f"crosscheck: scikit-fem and wingcrack differ by more than {tol:g} (displacements "
+               f"{result.u_rel:.2e}, SIFs {result.sif_rel:.2e} relative)")
+        return EXIT_FAILED
+    print(f"{PROG}: crosscheck agrees within {tol:g}" + (f"; report in {args.out}/crosscheck.json" if args.out else ""))
+    return EXIT_OK
+
+
+def crosscheck_text(r: dict) -> str:
+    """The `crosscheck` report (a CrossCheck.as_dict() with tolerance, agree)."""
+    opened = ", ".join(f"fracture {o['fracture']} ({o['faces']})" for o in r["opened"])
+    s = r["seconds"]
+    wc = sum(v for k, v in s.items() if k not in ("mesh", "total") and not k.startswith("skfem"))
+    sk = sum(v for k, v in s.items() if k.startswith("skfem"))
+    lines = [
+        f"crosscheck: {r['title']}",
+        f"same mesh: {r['cells']} P2 cells, {r['dofs']} DOFs; wingcrack (DOLFINx, MUMPS) against "
+        "scikit-fem (MeshTri2 isoparametric, SciPy SuperLU)",
+        "faces: " + (f"{opened} solved as open (no contact, no slip)" if opened else "all open"),
+        f"displacement: max |du| {_g(r['u_diff'])} m, max |u| {_g(r['u_max'])} m, relative {r['u_rel']:.2e}",
+        f"SIFs (displacement correlation): relative {r['sif_rel']:.2e}",
+    ]
+    for t in r["tips"]:
+        lines.append(f"  fracture {t['fracture']} end {t['end']}: KI {_g(t['KI'])} / {_g(t['KI_skfem'])}, "
+                     f"KII {_g(t['KII'])} / {_g(t['KII_skfem'])} Pa m^0.5 (wingcrack / scikit-fem)")
+    lines.append(f"time: mesh {s.get('mesh', 0.0):.2f} s, wingcrack {wc:.2f} s, scikit-fem {sk:.2f} s")
+    lines.append(f"{'agree' if r['agree'] else 'DISAGREE'} within {r['tolerance']:g}")
+    return "\n".join(lines)
 
 
 class _progress:

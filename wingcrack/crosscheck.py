@@ -1,0 +1,287 @@
+"""Cross-check of the solve: the same open-face problem assembled by scikit-fem.
+
+wingcrack's solve (wingcrack.fem, DOLFINx) and this one share the mesh (the
+meshing.CrackMesh arrays, quarter points already moved) and the case, nothing
+else: the constitutive law, the forms, the node numbering, the boundary
+conditions and the load terms are written again here on scikit-fem's own
+assembly, and the system is solved by SciPy (SuperLU) instead of MUMPS. Both
+are direct solves of the same discrete system, so the displacements must agree
+to round-off; displacement correlation (the same C++ kernel on both
+displacements) then checks the SIFs end to end.
+
+The problem (see wingcrack/fem/elasticity.py for the contract): P2 vector
+Lagrange on the P2 (isoparametric) geometry; total stress sigma0 + C:eps(u)
+with u measured from the in-situ state, so
+
+    a(u, v) = int C:eps(u) : eps(v) dx
+    l(v)    = int rho g . v dx - int sigma0 : eps(v) dx
+              + int (sigma0 n) . v ds   (every outer boundary edge, not the crack faces)
+              + int t . v ds            (traction conditions on named boundaries)
+              + point forces at bc-point nodes
+
+with displacement conditions at bc-point nodes and on every node (vertex and
+mid-edge) of a named boundary. Faces are open: a case's frictionless or slip
+faces are solved as open on both sides, and the report says so.
+
+Quadrature: on quarter-point cells (and curved rim cells) the integrands are
+rational, not polynomial, so the discrete systems coincide only with the same
+rule. DOLFINx integrates at UFL's estimated degrees, 4 on cells and 8 on the
+outer facets (the facet forms carry sigma0.n, whose normal raises the
+estimate); scikit-fem's rules of these orders are the same point sets as
+basix's (the 6-point Strang-Fix triangle rule, 5-point Gauss-Legendre).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass, field, replace
+
+import numpy as np
+
+from .errors import ComputationError
+
+#: Quadrature orders: those DOLFINx picks for wingcrack's forms (see above).
+CELL_ORDER = 4
+FACET_ORDER = 8
+#: A bc point and its mesh node coincide to this (times the domain length scale).
+NODE_TOL = 1e-9
+#: Default agreement demanded by `wingcrack crosscheck` (u_rel and sif_rel).
+#: Two direct solves of one discrete system differ by round-off, measured at
+#: 1e-14 to 1e-12 (displacements and SIFs) on the cases of
+#: tests/test_crosscheck.py; a wrong load, quadrature or node map shows as 1e-6
+#: or more (cell quadrature of order 6 instead of 4: 1e-6 to 4e-5).
+TOLERANCE = 1e-6
+
+
+@dataclass
+class CrossCheck:
+    """Agreement of the scikit-fem solve with wingcrack's on one case.
+
+    u_rel = max_nodes |u_skfem - u_wingcrack| / max_nodes |u_wingcrack|
+    (Euclidean norm per node); sif_rel = max |K_skfem - K_wingcrack| /
+    max |K_wingcrack| over every tip and both modes (displacement
+    correlation, Pa m^0.5). tips: per tip fracture, end, KI, KII (wingcrack)
+    and KI_skfem, KII_skfem. opened: {fracture, faces} of every fracture
+    whose contact or slip faces were solved as open. seconds: wall time per
+    phase (wingcrack's, then skfem_mesh, skfem_solve).
+    """
+    title: str
+    dofs: int
+    cells: int
+    opened: list
+    u_max: float
+    u_diff: float
+    u_rel: float
+    sif_rel: float
+    tips: list = field(default_factory=list)
+    seconds: dict = field(default_factory=dict)
+
+    def agrees(self, tol: float = TOLERANCE) -> bool:
+        return self.u_rel <= tol and self.sif_rel <= tol
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def open_faces(case):
+    """(case with every fracture's faces "open", [{fracture, faces}] of those that were not)."""
+    opened = [{"fracture": i, "faces": f.faces} for i, f in enumerate(case.fractures) if f.faces != "open"]
+    fractures = tuple(replace(f, faces="open", slip=0.0) for f in case.fractures)
+    return replace(case, fractures=fractures), opened
+
+
+def lame(E: float, nu: float, plane: str) -> tuple[float, float]:
+    """In-plane (lambda, mu) in Pa; plane stress: lambda = E nu / (1 - nu^2)."""
+    mu = E / (2.0 * (1.0 + nu))
+    lam = E * nu / (1.0 - nu * nu) if plane == "stress" else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    return lam, mu
+
+
+class SkfemProblem:
+    """The open-face problem of `case` on the CrackMesh `cm`, assembled by
+    scikit-fem. `dof[node, c]` is the scikit-fem dof of component c (0: x,
+    1: y) of CrackMesh node `node`."""
+
+    def __init__(self, case, cm):
+        from skfem import Basis, ElementTriP2, ElementVector, FacetBasis, MeshTri2
+
+        self.case, self.cm = case, cm
+        x = np.asarray(cm.x, dtype=np.float64)
+        cells = np.asarray(cm.cells, dtype=np.int64)
+        # gmsh's tri6 order [v0, v1, v2, m01, m12, m20] is the external order
+        # MeshTri2 takes (its edges are 01, 12, 02); it renumbers the nodes
+        # (vertices first, then one dof per edge), so the map back is built
+        # from the element dofs and checked against the node positions.
+        self.mesh = MeshTri2(x.T.copy(), cells.T.astype(np.int32))
+        self.element = ElementVector(ElementTriP2())
+        self.basis = Basis(self.mesh, self.element, intorder=CELL_ORDER)
+        dof = np.full((len(x), 2), -1, dtype=np.int64)
+        edofs = self.basis.element_dofs  # (12, cells): [n0 x, n0 y, n1 x, ...]
+        for i in range(6):
+            for c in range(2):
+                dof[cells[:, i], c] = edofs[2 * i + c]
+        if np.any(dof < 0) or not np.allclose(self.basis.doflocs[:, dof[:, 0]].T, x, rtol=0, atol=1e-12 * _scale(x)):
+            raise ComputationError("scikit-fem renumbered the mesh nodes unexpectedly")
+        self.dof = dof
+        self.ndofs = self.basis.N
+
+        # CrackMesh vertex node -> scikit-fem vertex; edges are found by
+        # their sorted vertex pair (crack faces are split, so no two edges
+        # share a pair)
+        self._vertex = np.full(len(x), -1, dtype=np.int64)
+        self._vertex[cells[:, :3].T] = self.mesh.t
+        keys = self._edge_keys(self.mesh.facets.T)
+        self._facet_order = np.argsort(keys)
+        self._facet_keys = keys[self._facet_order]
+        self._FacetBasis = FacetBasis
+
+    # -- mesh lookups -------------------------------------------------------
+    def _edge_keys(self, pairs) -> np.ndarray:
+        v = np.sort(np.asarray(pairs, dtype=np.int64), axis=1)
+        return v[:, 0] * self.mesh.nvertices + v[:, 1]
+
+    def facets(self, edges) -> np.ndarray:
+        """scikit-fem facet indices of CrackMesh edges [a, b, mid]."""
+        keys = self._edge_keys(self._vertex[np.asarray(edges, dtype=np.int64)[:, :2]])
+        pos = np.minimum(np.searchsorted(self._facet_keys, keys), len(self._facet_keys) - 1)
+        if not np.array_equal(self._facet_keys[pos], keys):
+            raise ComputationError("a boundary edge of the mesh is no scikit-fem facet")
+        return self._facet_order[pos]
+
+    def facet_basis(self, edges):
+        return self._FacetBasis(self.mesh, self.element, facets=self.facets(edges), intorder=FACET_ORDER)
+
+    def point_node(self, at) -> int:
+        """The node of the bc point `at` (the CrackMesh's choice at a crack mouth)."""
+        points = np.asarray(self.case.bc_points(), float).reshape(-1, 2)
+        node = int(self.cm.point_nodes[int(np.argmin(np.linalg.norm(points - np.asarray(at), axis=1)))])
+        if np.linalg.norm(np.asarray(self.cm.x[node]) - np.asarray(at)) > NODE_TOL * self.case.length_scale:
+            raise ComputationError(f"bc point {tuple(at)} is not a mesh node")
+        return node
+
+    # -- assembly -------------------------------------------------------------
+    def assemble(self):
+        """(K, f, prescribed dofs, their values), K sparse CSR (N/m^2 per m)."""
+        from skfem import BilinearForm, LinearForm
+        from skfem.helpers import ddot, div, dot, sym_grad
+
+        case, cm = self.case, self.cm
+        lam, mu = lame(case.material.E, case.material.nu, case.material.plane)
+        sigma0 = np.asarray(case.stress.tensor(), float)[:, :, None, None]
+        rho_g = case.material.density * np.asarray(case.body.gravity, float)[:, None, None]
+
+        @BilinearForm
+        def stiffness(u, v, w):
+            return lam * div(u) * div(v) + 2.0 * mu * ddot(sym_grad(u), sym_grad(v))
+
+        @LinearForm
+        def volume(v, w):
+            return dot(rho_g, v) - ddot(sigma0, sym_grad(v))
+
+        @LinearForm
+        def insitu_traction(v, w):
+            return dot(np.einsum("ij...,j...->i...", sigma0, w.n), v)
+
+        K = stiffness.assemble(self.basis).tocsr()
+        f = volume.assemble(self.basis)
+        edges = np.asarray(cm.boundary_edges, dtype=np.int64)
+        tags = np.asarray(cm.boundary_tags)
+        if np.any(sigma0) and len(edges):
+            f += insitu_traction.assemble(self.facet_basis(edges))
+
+        fixed = {}
+        for bc in case.bcs:
+            comps = [c for c in (0, 1) if bc.components[c]]
+            if bc.at is not None:
+                node = self.point_node(bc.at)
+                if bc.kind == "force":
+                    f[self.dof[node]] += np.asarray(bc.value, float)
+                else:
+                    fixed.update({int(self.dof[node, c]): float(bc.value[c]) for c in comps})
+                continue
+            on = edges[tags == int(cm.boundary_names[bc.on])]
+            if bc.kind == "traction":
+                t = np.asarray(bc.value, float)[:, None, None]
+                f += LinearForm(lambda v, w: dot(t, v)).assemble(self.facet_basis(on))
+            else:
+                nodes = np.unique(on)
+                fixed.update({int(d): float(bc.value[c]) for c in comps for d in self.dof[nodes, c]})
+        D = np.fromiter(fixed.keys(), dtype=np.int64, count=len(fixed))
+        values = np.fromiter(fixed.values(), dtype=np.float64, count=len(fixed))
+        return K, f, D, values
+
+    def solve(self) -> np.ndarray:
+        """(nodes, 2) displacement (m) at every CrackMesh node."""
+        import warnings
+
+        from scipy.sparse.linalg import MatrixRankWarning, spsolve
+
+        K, f, D, values = self.assemble()
+        free = np.setdiff1d(np.arange(self.ndofs), D)
+        u = np.zeros(self.ndofs)
+        u[D] = values
+        rhs = f[free] - K[free][:, D] @ values
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", MatrixRankWarning)
+            try:
+                u[free] = spsolve(K[free][:, free].tocsc(), rhs)
+            except (MatrixRankWarning, RuntimeError) as err:
+                raise ComputationError(f"scikit-fem system is singular ({err}): the body is not held") from None
+        if not np.all(np.isfinite(u)):
+            raise ComputationError("scikit-fem displacement has NaN/inf: the body is not held")
+        return u[self.dof]
+
+
+def correlation_sifs(cm, u: np.ndarray, E: float, nu: float, plane: str):
+    """(KI, KII) of every tip of `cm` by displacement correlation on the nodal
+    displacement `u` (nodes, 2)."""
+    from . import _kernels as K
+
+    tips = cm.tips
+    if not tips:
+        return np.zeros(0), np.zeros(0)
+    nodes = np.array([[t.upper[0], t.upper[1], t.lower[0], t.lower[1]] for t in tips], dtype=np.int64)
+    q = u[nodes]
+    KI, KII = K.displacement_correlation(
+        q[:, 0], q[:, 1], q[:, 2], q[:, 3], np.array([t.ex for t in tips], float),
+        np.array([t.ey for t in tips], float), np.array([t.h for t in tips], float),
+        E / (2 * (1 + nu)), K.kappa(nu, plane))
+    return np.atleast_1d(KI), np.atleast_1d(KII)
+
+
+def crosscheck(case) -> CrossCheck:
+    """Solve `case` with open faces by wingcrack and by scikit-fem on the
+    same mesh; compare displacements and displacement-correlation SIFs."""
+    from .api import _Timer, solve_initial
+    from .fem.nodal import nodal_displacements
+
+    case, opened = open_faces(case)
+    timer = _Timer()
+    sol = solve_initial(case, timer)
+    cm, problem = sol.cm, sol.problem
+    u_wc = nodal_displacements(problem.fm, problem.u, np.arange(len(cm.x)))
+    timer.lap("nodal")
+    skfem = SkfemProblem(case, cm)
+    timer.lap("skfem_mesh")
+    u_sk = skfem.solve()
+    timer.lap("skfem_solve")
+
+    m = case.material
+    KI, KII = correlation_sifs(cm, u_sk, m.E, m.nu, m.plane)
+    tips = [dict(fracture=t.fracture, end=t.end, KI=t.KI, KII=t.KII, KI_skfem=float(KI[i]),
+                 KII_skfem=float(KII[i])) for i, t in enumerate(sol.tips)]
+    K_wc = np.array([[t["KI"], t["KII"]] for t in tips]).reshape(-1, 2)
+    K_sk = np.array([[t["KI_skfem"], t["KII_skfem"]] for t in tips]).reshape(-1, 2)
+    sif_rel = float(np.max(np.abs(K_sk - K_wc)) / np.max(np.abs(K_wc))) if len(tips) else 0.0
+
+    u_max = float(np.max(np.linalg.norm(u_wc, axis=1)))
+    u_diff = float(np.max(np.linalg.norm(u_sk - u_wc, axis=1)))
+    if not u_max > 0:
+        raise ComputationError("wingcrack's displacement is zero: nothing to compare")
+    seconds = {k: round(v, 6) for k, v in timer.seconds.items()}
+    seconds["total"] = round(sum(timer.seconds.values()), 6)
+    return CrossCheck(case.title, int(skfem.ndofs), int(len(cm.cells)), opened, u_max, u_diff,
+                      u_diff / u_max, sif_rel, tips, seconds)
+
+
+def _scale(x: np.ndarray) -> float:
+    return float(np.max(np.ptp(x, axis=0))) if len(x) else 1.0
