@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from meshing.domain import Domain
+from meshing.timeout import MeshTimeout, run_with_timeout
 
 # gmsh and wingcrack._kernels are imported inside the functions that use them:
 # `import meshing` (for Domain, in the case checker) must stay light.
@@ -85,20 +86,29 @@ def crack_mesh(
     tip_size: float,
     sectors: int = 16,
     size_at: Callable[[float, float], float] | None = None,
+    sizes: tuple[np.ndarray, np.ndarray] | None = None,
+    timeout: float | None = None,
 ) -> CrackMesh:
     """Mesh `domain` with the `fractures` (polylines (n, 2)) as double-noded
     cracks and the bc `points` (on the boundary) as nodes.
 
     size: element size away from fractures; tip_size: rosette radius h (and
-    the distance tip - corner node); size_at(x, y): optional extra upper bound
-    of the element size (a future adaptive size field).
+    the distance tip - corner node; a tip whose last segment is shorter gets a
+    rosette of 0.75 times that length); size_at(x, y): optional extra upper
+    bound of the element size (a Python callback, slow: tests only);
+    sizes = (triangles (m, 3, 2), values (m, 3)): an extra upper bound of the
+    element size, linear on the given triangles (the error-estimate field of
+    the previous step); timeout: seconds gmsh may take (None: no limit); on
+    timeout it is retried once with 1.5 times coarser `sizes` and another
+    meshing algorithm, then MeshTimeout (a RuntimeError) is raised.
+    A fracture end that lies on another fracture (or on a non-adjacent part of
+    its own) is a T-junction: no rosette there, the other fracture is split at
+    the point, and the junction node gets three copies.
     Each call opens and closes its own gmsh session (gmsh.initialize /
     finalize), so do not call it while holding a gmsh session of your own.
     Raises ValueError for geometry that cannot be meshed as asked, RuntimeError
     when gmsh fails or a cell comes out inverted.
     """
-    import gmsh
-
     from wingcrack import _kernels
 
     t_start = time.perf_counter()
@@ -111,14 +121,17 @@ def crack_mesh(
     plan = _plan(domain, fractures, points, tip_size)
 
     t0 = time.perf_counter()
-    gmsh.initialize(readConfigFiles=False)
+
+    def attempt(coarsen: float, algorithm: int):
+        scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
+        return lambda: _gmsh_session(domain, plan, size, tip_size, sectors, size_at, scaled, algorithm)
+
+    retried = False
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        raw = _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at)
-    except Exception as error:  # gmsh raises bare Exception
-        raise RuntimeError(f"gmsh could not mesh the domain: {error}") from error
-    finally:
-        gmsh.finalize()
+        raw = run_with_timeout(attempt(1.0, 6), timeout)
+    except MeshTimeout:
+        retried = True  # once: coarser sizes, Delaunay instead of Frontal-Delaunay
+        raw = run_with_timeout(attempt(1.5, 5), timeout)
     t_gmsh = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -159,6 +172,7 @@ def crack_mesh(
         "tips": len(tips),
         "min_jacobian": float(jac.min()) if jac.size else 0.0,
         "seconds_gmsh": t_gmsh,
+        "gmsh_retried": retried,
         "seconds_split": t_split,
         "seconds": time.perf_counter() - t_start,
     }
@@ -174,15 +188,22 @@ class _Tip:
     end: int
     x: np.ndarray  # tip point
     back: np.ndarray  # unit vector from the tip back along the crack
+    h: float  # rosette radius
 
 
 @dataclass
 class _Plan:
-    fractures: list[np.ndarray]  # mouths projected onto the boundary
+    fractures: list[np.ndarray]  # mouths projected onto the boundary, junction points inserted
     tips: list[_Tip]
     anchors: list[tuple[int, float, np.ndarray]]  # boundary split points (edge, param, point)
     point_anchor: list[int]  # anchor of each bc point
     mouth_anchor: dict[tuple[int, int], int]  # (fracture, end) -> anchor
+    junction: dict[tuple[int, int], tuple[int, int]] = field(default_factory=dict)
+    # (fracture, end) -> (host fracture, vertex of the host's polyline) at a T
+
+
+#: a tip's rosette radius is at most this fraction of its last segment
+ROSETTE_IN_SEGMENT = 0.75
 
 
 def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
@@ -197,19 +218,19 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
         anchors.append((edge, t, q))
         return len(anchors) - 1
 
-    polylines, tips, mouth_anchor = [], [], {}
+    polylines, mouth_anchor, free_ends = [], {}, []
     for f, pts in enumerate(fractures):
         pts = np.array(pts, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 2:
-            raise ValueError(f"fracture {f}: points must be (n >= 2, 2)")
-        if np.any(np.linalg.norm(np.diff(pts, axis=0), axis=1) <= tip_size):
-            raise ValueError(f"fracture {f}: every segment must be longer than tip_size={tip_size}")
+        if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 2 or not np.all(np.isfinite(pts)):
+            raise ValueError(f"fracture {f}: points must be finite, (n >= 2, 2)")
+        if np.any(np.linalg.norm(np.diff(pts, axis=0), axis=1) <= 1e3 * tol):
+            raise ValueError(f"fracture {f}: two consecutive points coincide")
         inner = pts[1:-1]
         if len(inner) and (
             not np.all(domain.contains(inner)) or np.any(domain.distance_to_boundary(inner) <= tol)
         ):
             raise ValueError(f"fracture {f}: inner points must lie inside the domain")
-        for end, (i, j) in enumerate(((0, 1), (-1, -2))):
+        for end, i in ((0, 0), (1, -1)):
             if domain.distance_to_boundary(pts[i]) <= tol:
                 a = anchor(pts[i])
                 pts[i] = anchors[a][2]
@@ -217,9 +238,25 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
             elif not domain.contains(pts[i]):
                 raise ValueError(f"fracture {f}: end {end} lies outside the domain")
             else:
-                back = pts[j] - pts[i]
-                tips.append(_Tip(f, end, pts[i].copy(), back / np.linalg.norm(back)))
+                free_ends.append((f, end))
         polylines.append(pts)
+
+    polylines, junction = _junctions(polylines, free_ends, tol)
+    tips = []
+    for f, end in free_ends:
+        if (f, end) in junction:
+            continue
+        pts = polylines[f]
+        i, j = (0, 1) if end == 0 else (-1, -2)
+        back = pts[j] - pts[i]
+        length = float(np.linalg.norm(back))
+        h = min(tip_size, ROSETTE_IN_SEGMENT * length)
+        if h < 0.1 * tip_size:
+            raise ValueError(
+                f"fracture {f}: the segment at end {end} ({length:.3g}) is too short for a tip rosette "
+                f"(tip_size {tip_size:.3g})"
+            )
+        tips.append(_Tip(f, end, pts[i].copy(), back / length, h))
 
     point_anchor = []
     for q, p in enumerate(points):
@@ -228,21 +265,87 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
             raise ValueError(f"bc point {q} at {p.tolist()} is not on the boundary")
         point_anchor.append(anchor(p))
 
-    _check_rosettes_fit(domain, polylines, tips, tip_size)
-    return _Plan(polylines, tips, anchors, point_anchor, mouth_anchor)
+    _check_rosettes_fit(domain, polylines, tips, junction)
+    return _Plan(polylines, tips, anchors, point_anchor, mouth_anchor, junction)
 
 
-def _check_rosettes_fit(domain: Domain, polylines, tips, tip_size: float) -> None:
+def _junctions(polylines, free_ends, tol):
+    """Ends lying on another fracture (or on a non-adjacent segment of their
+    own) are T-junctions: insert the point into the host polyline (unless it
+    is a vertex already). Returns (polylines, {(f, end): (host, vertex)})."""
+    hits = []  # (f, end, host, segment, param)
+    for f, end in free_ends:
+        p = polylines[f][0 if end == 0 else -1]
+        best = None
+        for g, pts in enumerate(polylines):
+            n = len(pts) - 1
+            for s in range(n):
+                if g == f and (s in (0, 1) if end == 0 else s in (n - 1, n - 2)):
+                    continue  # the end's own segment and its neighbour
+                a, b = pts[s], pts[s + 1]
+                ab = b - a
+                t = float(np.clip(np.dot(p - a, ab) / np.dot(ab, ab), 0.0, 1.0))
+                dist = float(np.linalg.norm(p - a - t * ab))
+                if dist <= tol and (best is None or dist < best[0]):
+                    best = (dist, g, s, t)
+        if best is not None:
+            hits.append((f, end, best[1], best[2], best[3]))
+    if not hits:
+        return polylines, {}
+    # insert the junction points, per host segment in order of the parameter
+    out = [list(map(np.copy, pts)) for pts in polylines]
+    new_index: dict[tuple[int, int], int] = {}
+    for g, pts in enumerate(polylines):
+        n = len(pts) - 1
+        rows, index_of_vertex = [], {}
+        for s in range(n + 1):
+            index_of_vertex[s] = len(rows)
+            rows.append(pts[s])
+            if s == n:
+                break
+            inner = sorted((t, k) for k, (_, _, h, seg, t) in enumerate(hits) if h == g and seg == s)
+            for t, k in inner:
+                if np.linalg.norm(pts[s] + t * (pts[s + 1] - pts[s]) - pts[s]) <= tol:
+                    new_index[k] = -1 - s  # on vertex s (resolved below)
+                elif np.linalg.norm(pts[s] + t * (pts[s + 1] - pts[s]) - pts[s + 1]) <= tol:
+                    new_index[k] = -2 - s  # on vertex s + 1
+                else:
+                    f, end = hits[k][0], hits[k][1]
+                    new_index[k] = len(rows)
+                    rows.append(polylines[f][0 if end == 0 else -1].copy())
+        out[g] = rows
+        for k, v in list(new_index.items()):
+            if hits[k][2] == g and v < 0:
+                new_index[k] = index_of_vertex[-1 - v]
+    junction = {}
+    for k, (f, end, g, _, _) in enumerate(hits):
+        vertex = new_index[k]
+        host = out[g]
+        if (g, vertex) in ((g, 0), (g, len(host) - 1)):
+            raise ValueError(f"fracture {f}: end {end} meets the end of fracture {g} (not a T-junction)")
+        junction[(f, end)] = (g, vertex)
+    polylines = [np.array(rows, dtype=np.float64) for rows in out]
+    for (f, end), (g, vertex) in junction.items():  # the same coordinates, bit for bit
+        polylines[f][0 if end == 0 else -1] = polylines[g][vertex]
+    return polylines, junction
+
+
+def _check_rosettes_fit(domain: Domain, polylines, tips, junction) -> None:
     """A rosette disc must hold nothing but its own crack's last segment."""
     for t in tips:
-        if domain.distance_to_boundary(t.x) <= 1.5 * tip_size:
+        if domain.distance_to_boundary(t.x) <= 1.5 * t.h:
             raise ValueError(f"tip at {t.x.tolist()} is closer than 1.5 tip_size to the boundary")
         for f, pts in enumerate(polylines):
-            segs = range(len(pts) - 1)
-            if f == t.fracture:  # skip the tip's own segment
-                segs = range(1, len(pts) - 1) if t.end == 0 else range(len(pts) - 2)
-            for s in segs:
-                if _point_segment_distance(t.x, pts[s], pts[s + 1]) <= 1.5 * tip_size:
+            n = len(pts) - 1
+            for s in range(n):
+                reach = 1.5 * t.h
+                if f == t.fracture:
+                    own, neighbour = (0, 1) if t.end == 0 else (n - 1, n - 2)
+                    if s == own:
+                        continue
+                    if s == neighbour:  # shares the kink point: must only stay outside the disc
+                        reach = 1.05 * t.h
+                if _point_segment_distance(t.x, pts[s], pts[s + 1]) <= reach:
                     raise ValueError(
                         f"tip {t.end} of fracture {t.fracture} is closer than 1.5 tip_size "
                         f"to segment {s} of fracture {f}"
@@ -258,7 +361,20 @@ def _point_segment_distance(p, a, b) -> float:
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at) -> dict:
+def _gmsh_session(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm) -> dict:
+    import gmsh
+
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm)
+    except Exception as error:  # gmsh raises bare Exception
+        raise RuntimeError(f"gmsh could not mesh the domain: {error}") from error
+    finally:
+        gmsh.finalize()
+
+
+def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes, algorithm) -> dict:
     import gmsh
 
     geo = gmsh.model.geo
@@ -299,7 +415,7 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at) -> di
         ring_pts = []
         for k in range(sectors):
             phi = phi0 + 2.0 * math.pi * k / sectors
-            p = t.x + tip_size * (t.back if k == 0 else np.array([math.cos(phi), math.sin(phi)]))
+            p = t.x + t.h * (t.back if k == 0 else np.array([math.cos(phi), math.sin(phi)]))
             ring_pts.append(geo.addPoint(p[0], p[1], 0.0))
         spokes = [geo.addLine(centre, r) for r in ring_pts]
         chords = [geo.addLine(ring_pts[k], ring_pts[(k + 1) % sectors]) for k in range(sectors)]
@@ -313,15 +429,23 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at) -> di
             geo.mesh.setTransfiniteCurve(c, 2)
 
     # Fracture curves outside the rosettes, in order along each fracture.
-    crack_curves: list[tuple[int, int, np.ndarray]] = []  # (curve, fracture, d)
+    # Vertex tags first (a T-junction end takes its host's vertex), then lines.
+    vertex_tags = []
     for f, pts in enumerate(plan.fractures):
-        ends = []
+        tags = [0] * len(pts)
         for end, i in ((0, 0), (1, len(pts) - 1)):
             if (f, end) in plan.mouth_anchor:
-                ends.append(anchor_tag[plan.mouth_anchor[(f, end)]])
-            else:
-                ends.append(tip_point[tip_of[(f, end)]][1])
-        tags = [ends[0]] + [geo.addPoint(p[0], p[1], 0.0) for p in pts[1:-1]] + [ends[1]]
+                tags[i] = anchor_tag[plan.mouth_anchor[(f, end)]]
+            elif (f, end) in tip_of:
+                tags[i] = tip_point[tip_of[(f, end)]][1]
+        for i in range(1, len(pts) - 1):
+            tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
+        vertex_tags.append(tags)
+    for (f, end), (g, vertex) in plan.junction.items():
+        vertex_tags[f][0 if end == 0 else -1] = vertex_tags[g][vertex]
+    crack_curves: list[tuple[int, int, np.ndarray]] = []  # (curve, fracture, d)
+    for f, pts in enumerate(plan.fractures):
+        tags = vertex_tags[f]
         if (f, 0) in tip_of:
             k = tip_of[(f, 0)]
             crack_curves.append((spoke_on_crack[k], f, pts[1] - pts[0]))
@@ -339,7 +463,8 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at) -> di
     if embedded:
         gmsh.model.mesh.embed(1, embedded, 2, surface)
 
-    _size_field(plan, [centre for centre, _ in tip_point], embedded, size, tip_size, sectors)
+    _size_field(plan, [centre for centre, _ in tip_point], embedded, size, tip_size, sectors, sizes)
+    gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     if size_at is not None:
         gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z: float(size_at(x, y)))
     gmsh.model.mesh.generate(2)
@@ -366,9 +491,10 @@ def _rim_point(angle, domain, geo) -> int:
     return geo.addPoint(p[0], p[1], 0.0)
 
 
-def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors):
-    """h = min(size, h_ring + GRADING (r - tip_size), h_crack + GRADING dist): the rosette
-    chord length at the ring, the crack size on the fracture, growing linearly."""
+def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, sizes=None):
+    """h = min(size, h_ring + GRADING (r - h_tip), h_crack + GRADING dist, sizes): the rosette
+    chord length at each ring, the crack size on the fracture, growing linearly; and the
+    given size field (linear on its triangles), never below tip_size."""
     import gmsh
 
     field = gmsh.model.mesh.field
@@ -376,16 +502,15 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors):
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
     gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-    gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
-    if not plan.tips and not crack_curves:
+    if not plan.tips and not crack_curves and sizes is None:
         gmsh.option.setNumber("Mesh.MeshSizeMin", size)
         return
     parts = []
-    if plan.tips:
-        h_ring = 2.0 * tip_size * math.sin(math.pi / sectors)
+    for t, centre in zip(plan.tips, tip_points):
+        h_ring = 2.0 * t.h * math.sin(math.pi / sectors)
         d = field.add("Distance")
-        field.setNumbers(d, "PointsList", tip_points)
-        parts.append(_threshold(d, h_ring, size, tip_size))
+        field.setNumbers(d, "PointsList", [centre])
+        parts.append(_threshold(d, h_ring, size, t.h))
     if crack_curves:
         h_crack = min(size, CRACK_SIZE_IN_TIPS * tip_size)
         longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in plan.fractures)
@@ -393,6 +518,16 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors):
         field.setNumbers(d, "CurvesList", crack_curves)
         field.setNumber(d, "NumPointsPerCurve", int(min(20000, math.ceil(4.0 * longest / h_crack) + 2)))
         parts.append(_threshold(d, h_crack, size, 0.0))
+    if sizes is not None:
+        tri, vals = (np.asarray(a, dtype=np.float64) for a in sizes)
+        m = len(tri)
+        vals = np.maximum(vals.reshape(m, 3), tip_size)
+        data = np.concatenate([tri[:, :, 0], tri[:, :, 1], np.zeros((m, 3)), vals], axis=1)
+        view = gmsh.view.add("sizes")
+        gmsh.view.addListData(view, "ST", m, data.ravel().tolist())
+        v = field.add("PostView")
+        field.setNumber(v, "ViewTag", view)
+        parts.append(v)
     m = field.add("Min")
     field.setNumbers(m, "FieldsList", parts)
     field.setAsBackgroundMesh(m)

@@ -57,6 +57,16 @@ def test_a_wing_joins_another_fracture_as_a_t(tmp_path):
     assert abs(f0.points[-1][0] - (A + 0.35)) < 1e-12
     # no crossing: the host is touched, not cut through
     assert np.all(f0.points[:, 0] <= A + 0.35 + 1e-12)
+    joined_at = next(k for k, s in enumerate(r.steps) for t in s["tips"]
+                     if (t["fracture"], t["end"], t["state"]) == (0, 1, "joined"))
+    assert joined_at < len(r.steps) - 1   # the last step was meshed with the T
+    cm = r.mesh
+    at = np.flatnonzero(np.linalg.norm(cm.x - f0.points[-1], axis=1) < 1e-12)
+    assert len(at) == 3
+    assert not any(t.fracture == 0 and t.end == 1 for t in cm.tips)
+    wing_pairs = cm.pair_fracture == 0
+    assert np.any(np.isin(cm.pairs[wing_pairs], at).all(axis=1))  # the wing's pair at the T
+    assert np.any(cm.x[cm.pairs[wing_pairs, 0], 0] > A + 0.2)      # pairs along the new faces
 
 
 def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):

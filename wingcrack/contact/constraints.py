@@ -54,6 +54,34 @@ def _gauss3():
 def tributary_lengths(x: np.ndarray, edges: np.ndarray, num_nodes: int) -> np.ndarray:
     """int N_k ds over the P2 face edges [a, b, mid], per node (quarter-point
     edges included: the isoparametric map is integrated, not assumed affine)."""
+    contrib = _edge_integrals(x, edges)
+    w = np.zeros(num_nodes)
+    np.add.at(w, edges.ravel(), contrib.ravel())
+    return w
+
+
+def pair_tributary_lengths(cm) -> np.ndarray:
+    """(p,) int N ds of each pair of `cm` over the face edges of its own
+    fracture that hold both of its nodes (at a T-junction a node copy also
+    borders the other fracture's faces: those do not count)."""
+    plus_e = np.asarray(cm.crack_edges, dtype=np.int64).reshape(-1, 3)
+    minus_e = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    n = len(cm.x)
+    contrib = _edge_integrals(np.asarray(cm.x), plus_e)
+    edge_keys = (plus_e * n + minus_e).ravel()
+    pair_keys = pairs[:, 0] * n + pairs[:, 1]
+    order = np.argsort(pair_keys)
+    where = np.searchsorted(pair_keys[order], edge_keys)
+    where = np.minimum(where, len(order) - 1) if len(order) else where
+    found = pair_keys[order][where] == edge_keys if len(order) else np.zeros(0, bool)
+    w = np.zeros(len(pairs))
+    np.add.at(w, order[where[found]], contrib.ravel()[found])
+    return w
+
+
+def _edge_integrals(x: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """(k, 3) int N_i ds of the 3 nodes of each P2 edge."""
     s, wq = _gauss3()
     # 1D P2 shape functions on [0, 1] in the order a (0), b (1), mid (1/2)
     N = np.stack([(1 - s) * (1 - 2 * s), s * (2 * s - 1), 4 * s * (1 - s)])   # (3, q)
@@ -61,10 +89,7 @@ def tributary_lengths(x: np.ndarray, edges: np.ndarray, num_nodes: int) -> np.nd
     X = x[edges]                                     # (k, 3, 2)
     dx = np.einsum("iq,kid->kqd", dN, X)             # (k, q, 2)
     jac = np.linalg.norm(dx, axis=2)                 # (k, q)
-    contrib = np.einsum("iq,kq,q->ki", N, jac, wq)   # (k, 3)
-    w = np.zeros(num_nodes)
-    np.add.at(w, edges.ravel(), contrib.ravel())
-    return w
+    return np.einsum("iq,kq,q->ki", N, jac, wq)     # (k, 3)
 
 
 def _arc_length(p, pts) -> float:
@@ -107,7 +132,7 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     normals = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
-    w_node = tributary_lengths(np.asarray(cm.x), np.asarray(cm.crack_edges, dtype=np.int64), len(cm.x))
+    w_pair = pair_tributary_lengths(cm)
     rows = {k: [] for k in ("plus", "minus", "direction", "kind", "pair", "fracture", "gap", "slip", "weight", "position")}
 
     def add(i, v, kind, gap, slip):
@@ -120,15 +145,20 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
         rows["fracture"].append(pfrac[i])
         rows["gap"].append(gap)
         rows["slip"].append(slip)
-        rows["weight"].append(w_node[plus])
+        rows["weight"].append(w_pair[i])
         rows["position"].append(cm.x[plus])
 
     x = np.asarray(cm.x)
     tol = 1e-9 * float(np.ptp(x, axis=0).max()) if len(x) else 0.0
+    parts = [_part(fractures[pfrac[i]], x[pairs[i, 0]], tol) for i in range(len(pairs))]
+    # At a T-junction a node copy belongs to pairs of two fractures. If the
+    # host prescribes slip there, the joining fracture's own pair would repeat
+    # a combination of the host's rows (a singular pair system): it gets none.
+    slip_nodes = {int(v) for i, part in enumerate(parts) if part[0] == "slip" for v in pairs[i]}
     for i in range(len(pairs)):
         f = fractures[pfrac[i]]
-        faces, gap, pts = _part(f, x[pairs[i, 0]], tol)
-        if faces == "open":
+        faces, gap, pts = parts[i]
+        if faces == "open" or (faces != "slip" and slip_nodes.intersection(pairs[i].tolist())):
             continue
         n = normals[i]
         add(i, n, NORMAL, gap, 0.0)
