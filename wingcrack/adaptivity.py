@@ -13,8 +13,10 @@ TARGET = 0.05
 
 
 def next_sizes(problem, tip_size: float, size: float):
-    """(points (k,2), sizes (k,)) at the current mesh's vertices; the two
-    copies of a split crack node get the smaller of their sizes."""
+    """The size field for the next mesh: (triangles (m, 3, 2), values (m, 3)),
+    the vertex sizes on every cell of the current mesh (gathered from all
+    processes), linear in each cell; the crack-face copies of a node take
+    the smaller of their sizes, so the field is continuous across cracks."""
     x, cells, stress = cell_stress(problem)
     eta = recovered_stress_error(x, cells, stress)
     pts, vals = size_field(x, cells, eta, tip_size, size, TARGET, cell_stress=stress)
@@ -24,6 +26,11 @@ def next_sizes(problem, tip_size: float, size: float):
     inv = inv.ravel()
     merged = np.full(inv.max() + 1, np.inf)
     np.minimum.at(merged, inv, vals)
-    first = np.full(inv.max() + 1, -1)
-    first[inv[::-1]] = np.arange(len(inv))[::-1]
-    return pts[first], merged
+    per_node = np.full(len(x), np.nan)
+    per_node[np.unique(cells[:, :3])] = merged[inv]
+    tri, values = x[cells[:, :3]], per_node[cells[:, :3]]
+    comm = problem.fm.mesh.comm
+    if comm.size > 1:
+        tri = np.concatenate(comm.allgather(tri))
+        values = np.concatenate(comm.allgather(values))
+    return tri, values

@@ -22,6 +22,7 @@ from .critical_load import critical_load_factor
 from .fracture_set import FractureSet
 from .growth_law import STRAIGHT, advances
 from .joining import place_tip
+from ..adaptivity import next_sizes
 
 #: the join distance, in rosette radii (see joining.py)
 REACH = 1.5
@@ -79,6 +80,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     lam = 0.0 if prop.load == "scale" else 1.0
     steps, status = [], "finished"
     last = (None, None, None)
+    sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
 
     def summary_now(st):
         s = _summary(case, st, steps)
@@ -93,7 +95,8 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     for k in range(prop.steps):
         timer = _Timer()
         try:
-            cm, problem, contact = build(case, fset.fractures, timer, mesh_kwargs=_mesh_kwargs(mesh_timeout))
+            cm, problem, contact = build(case, fset.fractures, timer,
+                                         mesh_kwargs={"timeout": mesh_timeout, "sizes": sizes})
             last = (cm, problem, contact)
             grow = _grow_index(cm, fset)
             if not grow:
@@ -148,6 +151,9 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 adv[i] = float(np.linalg.norm(p - a))
             timer.lap("growth")
             _check_no_crossing(fset)
+            if case.mesh.adaptive:
+                sizes = next_sizes(problem, h, case.mesh.size)
+                timer.lap("estimate")
             step = _step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
                          dict(timer.seconds), contact_summary(_Sol(cm, contact)))
             for i, td in enumerate(step["tips"]):
@@ -178,14 +184,6 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
 class _Sol:
     def __init__(self, cm, contact):
         self.cm, self.contact = cm, contact
-
-
-def _mesh_kwargs(timeout):
-    import inspect
-
-    from meshing.crack_mesh import crack_mesh
-
-    return {"timeout": timeout} if "timeout" in inspect.signature(crack_mesh).parameters and timeout else {}
 
 
 def _correlation(case, cm, problem):
