@@ -158,6 +158,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                          dict(timer.seconds), contact_summary(_Sol(cm, contact)))
             for i, td in enumerate(step["tips"]):
                 td["state"], td["advance"] = states[i], adv[i]
+            step["mesh"] = {k: cm.stats[k] for k in ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried")}
             step["solves"] = int(crit.solves) if prop.load == "scale" else 1
             step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
             steps.append(step)
