@@ -35,7 +35,7 @@ $(STAMP): $(PY) $(KERNEL_FILES) requirements-dev.txt constraints.txt
 	touch $@
 
 demo: setup
-	$(VENV)/bin/wingcrack sif cases/brazilian_disc_45.toml -o results/brazilian_disc_45
+	$(VENV)/bin/wingcrack run cases/brazilian_disc_45.toml -o results/brazilian_disc_45
 
 test: setup test-cpp test-py
 

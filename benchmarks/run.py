@@ -97,6 +97,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     bench_sif(args.repeat)
     bench_contact(args.repeat)
+    from propagation import main as bench_propagation
+    bench_propagation()
 
 
 if __name__ == "__main__":

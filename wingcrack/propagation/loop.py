@@ -160,10 +160,12 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 td["state"], td["advance"] = states[i], adv[i]
             step["mesh"] = {k: cm.stats[k] for k in ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried")}
             step["solves"] = int(crit.solves) if prop.load == "scale" else 1
-            step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
             steps.append(step)
             if out is not None:
                 _write_step_fields(out, k, cm, problem, contact)
+                timer.lap("output")
+                step["seconds"]["output"] = round(timer.seconds["output"], 6)
+            step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
             write("running" if k < prop.steps - 1 else status)
             if progress is not None:
                 progress(k, step)
@@ -227,3 +229,7 @@ def _final_picture(case, fset, out, result):
         tips=tips, rosette=case.mesh.tip_size, title=f"{case.title}: {len(result.steps)} steps",
         mesh=result.mesh)
     result.files["summary"] = out / "summary.json"
+    if result.steps:   # one field file and one face file per step
+        last = f"{len(result.steps) - 1:04d}"
+        result.files["fields"] = out / ("step_0000.vtu" if last == "0000" else f"step_{{0000..{last}}}.vtu")
+        result.files["faces"] = out / ("faces_0000.vtu" if last == "0000" else f"faces_{{0000..{last}}}.vtu")
