@@ -152,6 +152,13 @@ class ElasticProblem:
         self.solver.setUp()
         self._factored = True
 
+    def destroy(self) -> None:
+        """Free the PETSc objects (matrix, MUMPS factors, vectors) now rather
+        than whenever Python's collector gets to them."""
+        for obj in (self.solver, self.A, self.b, self.u.vector):
+            obj.destroy()
+        self._factored = False
+
     def schur_complement(self) -> np.ndarray:
         from . import schur
 

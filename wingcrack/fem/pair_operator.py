@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 from petsc4py import PETSc
+from scipy import sparse
 
 
 class PairOperator:
@@ -29,9 +30,9 @@ class PairOperator:
         m = len(rows)
         self.m = m
 
-        # local owned rows of B (dense numpy, n_owned x m)
+        # local owned rows of B (sparse, n_owned x m: 4 entries a column)
         order = np.argsort(fm.original)
-        B = np.zeros((self.n_owned, m))
+        dof_i, col_j, val = [], [], []
         for nodes, sign in ((rows.plus, 1.0), (rows.minus, -1.0)):
             if len(order) == 0:
                 break
@@ -39,22 +40,26 @@ class PairOperator:
             local = order[pos]
             found = fm.original[local] == nodes
             blk = fm.node_dof[local]
-            owned = found & (blk < imap.size_local)
+            owned = np.flatnonzero(found & (blk < imap.size_local))
             for comp in (0, 1):
-                dof = bs * blk[owned] + comp
-                B[dof, np.flatnonzero(owned)] += sign * rows.direction[owned, comp]
+                dof_i.append(bs * blk[owned] + comp)
+                col_j.append(owned)
+                val.append(sign * rows.direction[owned, comp])
+        cat = (lambda a: np.concatenate(a)) if dof_i else (lambda a: np.zeros(0))
+        B = sparse.csr_matrix((cat(val), (cat(dof_i).astype(np.int64), cat(col_j).astype(np.int64))),
+                              shape=(self.n_owned, m))
         self.B = B
-        B_free = B.copy()
+        fixed = np.zeros(self.n_owned, dtype=bool)
         for bc in problem.bcs:
             dofs, _ = bc.dof_indices()
             dofs = np.asarray(dofs)
-            B_free[dofs[dofs < self.n_owned]] = 0.0
-        self.B_free = B_free
+            fixed[dofs[dofs < self.n_owned]] = True
+        self.B_free = sparse.diags((~fixed).astype(float)) @ B
         self.Z = None
         if getattr(problem, "schur_dofs", None) is not None:
             P = problem.schur_dofs
             Sc = problem.schur_complement()
-            BP = B_free[P]
+            BP = self.B_free[P].toarray()
             self.S = BP.T @ np.linalg.solve(Sc, BP)
             self.S = 0.5 * (self.S + self.S.T)
             return
@@ -68,9 +73,9 @@ class PairOperator:
         Bt.setPreallocationNNZ((8, 8))
         Bt.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         Bt.setUp()
-        dof, col = np.nonzero(B_free)
-        for d, c in zip(dof, col):
-            Bt.setValue(int(c), int(d + r0), B_free[d, c])
+        coo = self.B_free.tocoo()
+        for d, c, v in zip(coo.row, coo.col, coo.data):
+            Bt.setValue(int(c), int(d + r0), v)
         Bt.assemble()
         Btv = PETSc.Mat().createTranspose(Bt)
         Zm = PETSc.Mat().createDense([(self.n_owned, N), (PETSc.DECIDE, m)], comm=comm)
@@ -82,7 +87,7 @@ class PairOperator:
             F.setMumpsIcntl(27, max(1, m))
             F.matSolve(Btv, Zm)
         self.Z = Zm.getDenseArray().copy()  # MPIDENSE: owned rows, all columns
-        self.S = comm.allreduce(B_free.T @ self.Z)
+        self.S = comm.allreduce(np.asarray(self.B_free.T @ self.Z))
         self.S = 0.5 * (self.S + self.S.T)  # symmetric up to round-off
         for obj in (Btv, Bt, Zm):
             obj.destroy()

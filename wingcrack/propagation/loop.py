@@ -95,6 +95,8 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     for k in range(prop.steps):
         timer = _Timer()
         try:
+            _release(last[1])   # the previous step's factors and forms
+            last = (None, None, None)
             cm, problem, contact = build(case, fset.fractures, timer,
                                          mesh_kwargs={"timeout": mesh_timeout, "sizes": sizes})
             last = (cm, problem, contact)
@@ -182,6 +184,17 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     if out is not None and comm.rank == 0:
         _final_picture(case, fset, out, result)
     return result
+
+
+def _release(problem):
+    """Free the previous step's objects now: the MUMPS factors (tens of MB a
+    step) are destroyed explicitly, and DOLFINx objects sit in reference
+    cycles that Python's collector, blind to their C++ memory, would keep."""
+    import gc
+
+    if problem is not None:
+        problem.destroy()
+    gc.collect()
 
 
 class _Sol:
