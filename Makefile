@@ -9,13 +9,16 @@ export OMP_NUM_THREADS ?= 1
 
 APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
   libgtest-dev googletest python3-scipy python3-matplotlib python3-meshio \
-  python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build
+  python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build \
+  python3-nbclient python3-nbformat python3-ipykernel
 KERNEL_FILES := $(wildcard cpp_kernels/*/*.cpp cpp_kernels/include/wingcrack/*.hpp) CMakeLists.txt pyproject.toml
 STAMP := $(VENV)/.wingcrack-installed
+# Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
+KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
 .PHONY: setup apt venv demo test test-cpp test-py bench clean
 
-setup: apt $(STAMP)
+setup: apt $(STAMP) $(KERNELSPEC)
 
 apt:
 	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -33,6 +36,10 @@ $(STAMP): $(PY) $(KERNEL_FILES) requirements-dev.txt constraints.txt
 	$(PY) -m pip install -q --no-build-isolation --no-deps -c constraints.txt -e .
 	$(PY) -c "import numpy, dolfinx, wingcrack._kernels; assert numpy.__version__.startswith('1.24'), numpy.__version__"
 	touch $@
+
+$(KERNELSPEC): $(STAMP)
+	PYDEVD_DISABLE_FILE_VALIDATION=1 $(PY) -m ipykernel install --sys-prefix --name wingcrack \
+	  --display-name "Python (wingcrack)" --env PYDEVD_DISABLE_FILE_VALIDATION 1 > /dev/null
 
 demo: setup
 	$(VENV)/bin/wingcrack run cases/brazilian_disc_45.toml -o results/brazilian_disc_45
