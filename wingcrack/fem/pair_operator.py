@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 from petsc4py import PETSc
-from scipy import sparse
+from scipy import linalg, sparse
 
 
 class PairOperator:
@@ -60,8 +60,9 @@ class PairOperator:
             P = problem.schur_dofs
             Sc = problem.schur_complement()
             BP = self.B_free[P].toarray()
-            self.S = BP.T @ np.linalg.solve(Sc, BP)
-            self.S = 0.5 * (self.S + self.S.T)
+            # Sc is SPD: S = W^T W with W = L^-1 B_P, Sc = L L^T (symmetric by construction)
+            W = linalg.solve_triangular(linalg.cholesky(Sc, lower=True), BP, lower=True)
+            self.S = W.T @ W
             return
 
         # Z = K^-1 B_free by MUMPS' multi-RHS solve with a sparse right-hand
