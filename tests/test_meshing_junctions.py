@@ -137,3 +137,28 @@ def test_size_field_bounds_the_element_size():
     tiny = crack_mesh(domain, [], [], size=0.2, tip_size=0.1, sizes=(tri, np.full((2, 3), 1e-4)))
     v = tiny.x[tiny.cells[:, :3]]
     assert np.median(np.linalg.norm(v - np.roll(v, 1, axis=1), axis=2)) > 0.07
+
+
+def test_a_hanging_gmsh_is_retried_once_then_fails(monkeypatch):
+    """gmsh stuck (simulated: the Frontal-Delaunay attempt sleeps) -> killed
+    at the limit and retried once with Delaunay and coarser sizes; stuck
+    twice -> MeshTimeout, which the propagation loop turns into 'failed:'."""
+    import sys
+    cm_mod = sys.modules["meshing.crack_mesh"]
+    real = cm_mod._gmsh_session
+    domain, fr, plain = t_junction_mesh()
+
+    def stuck_frontal(*a):
+        if a[-1] == 6:       # the algorithm of the first attempt
+            time.sleep(60)
+        return real(*a)
+
+    monkeypatch.setattr(cm_mod, "_gmsh_session", stuck_frontal)
+    t0 = time.perf_counter()
+    mesh = crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=2.0)
+    assert mesh.stats["gmsh_retried"] is True and time.perf_counter() - t0 < 10.0
+    assert len(mesh.tips) == len(plain.tips) and len(mesh.pairs) > 0
+
+    monkeypatch.setattr(cm_mod, "_gmsh_session", lambda *a: time.sleep(60))
+    with pytest.raises(MeshTimeout, match="did not finish within 1 s"):
+        crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=1.0)
