@@ -35,6 +35,8 @@ from meshing.timeout import MeshTimeout, run_with_timeout
 # Size growth per element layer away from tips and fractures: h(d) = h0 + GRADING * d
 # makes neighbouring layers differ by a factor 1 + GRADING.
 GRADING = 0.3
+#: the same around the tips (the rosette's surroundings set the SIF accuracy)
+TIP_GRADING = 0.3
 # Element size along a fracture, in tip sizes (capped by `size`).
 CRACK_SIZE_IN_TIPS = 2.0
 # Ends of fractures and bc points closer than this (times the domain diameter)
@@ -522,7 +524,7 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
         h_ring = 2.0 * t.h * math.sin(math.pi / sectors)
         d = field.add("Distance")
         field.setNumbers(d, "PointsList", [centre])
-        parts.append(_threshold(d, h_ring, size, t.h))
+        parts.append(_threshold(d, h_ring, size, t.h, TIP_GRADING))
     if crack_curves:
         h_crack = min(size, CRACK_SIZE_IN_TIPS * tip_size)
         longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in plan.fractures)
@@ -532,8 +534,12 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
         parts.append(_threshold(d, h_crack, size, 0.0))
     if sizes is not None:
         tri, vals = (np.asarray(a, dtype=np.float64) for a in sizes)
+        vals = np.maximum(vals.reshape(len(tri), 3), tip_size)
+        # where all three values reach `size` the field changes nothing (sizes are capped
+        # at `size`, and a point outside the view gets no bound): leave those cells out
+        keep = vals.min(axis=1) < size
+        tri, vals = tri[keep], vals[keep]
         m = len(tri)
-        vals = np.maximum(vals.reshape(m, 3), tip_size)
         data = np.concatenate([tri[:, :, 0], tri[:, :, 1], np.zeros((m, 3)), vals], axis=1)
         view = gmsh.view.add("sizes")
         gmsh.view.addListData(view, "ST", m, data.ravel().tolist())
@@ -545,7 +551,7 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
     field.setAsBackgroundMesh(m)
 
 
-def _threshold(distance_field, h0, size, d0):
+def _threshold(distance_field, h0, size, d0, grading=GRADING):
     import gmsh
 
     field = gmsh.model.mesh.field
@@ -554,7 +560,7 @@ def _threshold(distance_field, h0, size, d0):
     field.setNumber(t, "SizeMin", h0)
     field.setNumber(t, "SizeMax", size)
     field.setNumber(t, "DistMin", d0)
-    field.setNumber(t, "DistMax", d0 + (size - h0) / GRADING)
+    field.setNumber(t, "DistMax", d0 + (size - h0) / grading)
     return t
 
 
