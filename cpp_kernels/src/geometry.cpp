@@ -4,12 +4,19 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 namespace wingcrack {
 
 namespace {
 
 double cross(const Point2& a, const Point2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// |v| without the underflow of v.norm() = sqrt(x^2 + y^2): below ~1e-154 the
+// squares lose digits or vanish, which made tip frames of tiny (but valid)
+// segments non-unit.
+double length(const Point2& v) { return std::hypot(v.x(), v.y()); }
 
 // The point at parameter t of [a, b], exactly an end at t = 0 and t = 1:
 // a + 1 (b - a) may differ from b in the last bit, and then two equally close
@@ -54,7 +61,7 @@ bool boxes_apart(const std::array<Point2, 2>& a, const std::array<Point2, 2>& b,
 }
 
 double relative_eps(const std::array<Point2, 2>& a, const std::array<Point2, 2>& b, double tol) {
-  return tol * std::max((a[1] - a[0]).norm(), (b[1] - b[0]).norm());
+  return tol * std::max(length(a[1] - a[0]), length(b[1] - b[0]));
 }
 
 }  // namespace
@@ -66,12 +73,15 @@ TipFrame tip_frame(const PointsRef& points, int end) {
   const Point2 tip = points.row(end == 1 ? n - 1 : 0).transpose();
   const Point2 behind = points.row(end == 1 ? n - 2 : 1).transpose();
   const Point2 d = tip - behind;  // at end 0 this is already -d of the first segment
-  const double length = d.norm();
-  if (!(length > 0.0) || !std::isfinite(length))
+  // Scaled by its largest component first, so that a segment of any length
+  // (down to subnormal coordinate differences) gives a unit direction.
+  const double big = d.cwiseAbs().maxCoeff();
+  if (!(big > 0.0) || !std::isfinite(big))
     throw std::invalid_argument("tip_frame: the end segment has zero or non-finite length, its direction is undefined");
+  const Point2 scaled = d / big;
   TipFrame f;
   f.origin = tip;
-  f.ex = d / length;
+  f.ex = scaled / length(scaled);
   f.ey = Point2(-f.ex.y(), f.ex.x());
   return f;
 }
@@ -81,21 +91,38 @@ SegmentDistance point_segment_distance(const Point2& p, const Point2& a, const P
   const double dd = d.squaredNorm();
   // A zero-length segment is its point; dividing by dd would give NaN.
   const double t = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-  return {(p - at(a, b, t)).norm(), t};
+  return {length(p - at(a, b, t)), t};
 }
 
-SegmentHit segment_intersection(const Point2& p0, const Point2& p1, const Point2& q0, const Point2& q1, double tol) {
+namespace {
+
+// segment_intersection on coordinates of order 1 (see below).
+SegmentHit intersect_scaled(const Point2& p0, const Point2& p1, const Point2& q0, const Point2& q1, double tol) {
   const Point2 dp = p1 - p0, dq = q1 - q0;
-  const double lp = dp.norm(), lq = dq.norm();
+  const double lp = length(dp), lq = length(dq);
   const double eps = tol * std::max(lp, lq);
 
   // Touches first: an end within eps of the other segment. This also decides
   // collinear overlaps and near-parallel cases, where the crossing formula
-  // below divides by a vanishing cross product.
-  const std::array<EndContact, 4> ends = {end_on_q(p0, 0.0, q0, q1), end_on_q(p1, 1.0, q0, q1),
-                                          end_on_p(q0, 0.0, p0, p1), end_on_p(q1, 1.0, p0, p1)};
-  const auto closest = std::min_element(ends.begin(), ends.end(),
-                                        [](const EndContact& a, const EndContact& b) { return a.distance < b.distance; });
+  // below divides by a vanishing cross product. A zero-length segment is a
+  // point, at parameter 0 whichever of its ends is asked.
+  std::array<EndContact, 4> ends = {end_on_q(p0, 0.0, q0, q1), end_on_q(p1, p0 == p1 ? 0.0 : 1.0, q0, q1),
+                                    end_on_p(q0, 0.0, p0, p1), end_on_p(q1, q0 == q1 ? 0.0 : 1.0, p0, p1)};
+  // Each contact is computed alike whichever segment comes first, so the
+  // four are the same set in both argument orders (with t and s swapped).
+  // Ordering them by values that do not depend on the order (distance, then
+  // point, then the smaller and the larger of t and s) makes every tie, such
+  // as the equally close ends of two parallel segments, resolve the same way
+  // in both orders.
+  // A sorting network rather than std::sort: with NaN input the comparison
+  // is no strict weak order, and std::sort may then read out of bounds.
+  const auto before = [](const EndContact& a, const EndContact& b) {
+    return std::make_tuple(a.distance, a.point.x(), a.point.y(), std::min(a.t, a.s), std::max(a.t, a.s)) <
+           std::make_tuple(b.distance, b.point.x(), b.point.y(), std::min(b.t, b.s), std::max(b.t, b.s));
+  };
+  for (const auto& [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}})
+    if (before(ends[j], ends[i])) std::swap(ends[i], ends[j]);
+  const auto closest = ends.begin();
   if (closest->distance <= eps) {
     // The touching ends span the overlap (one point for a touch, the two
     // ends of the shared stretch for a collinear overlap): return its middle.
@@ -105,7 +132,7 @@ SegmentHit segment_intersection(const Point2& p0, const Point2& p1, const Point2
     for (std::size_t i = 0; i < ends.size(); ++i)
       for (std::size_t j = i + 1; j < ends.size(); ++j) {
         if (ends[i].distance > eps || ends[j].distance > eps) continue;
-        const double w = (ends[i].point - ends[j].point).norm();
+        const double w = length(ends[i].point - ends[j].point);
         if (w > widest) {
           widest = w;
           a = &ends[i];
@@ -135,6 +162,24 @@ SegmentHit segment_intersection(const Point2& p0, const Point2& p1, const Point2
   return {false, closest->t, closest->s, closest->point};
 }
 
+}  // namespace
+
+SegmentHit segment_intersection(const Point2& p0, const Point2& p1, const Point2& q0, const Point2& q1, double tol) {
+  // Cross products and squared lengths of segments far below 1 (1e-160 m)
+  // underflow, and far above overflow. Scaling the four points by a power of
+  // two, chosen from the largest coordinate so that it does not depend on the
+  // argument order, is exact and brings them to order 1: the verdict, t and s
+  // are then the same for a configuration at any scale.
+  const double big = std::max({p0.cwiseAbs().maxCoeff(), p1.cwiseAbs().maxCoeff(), q0.cwiseAbs().maxCoeff(),
+                               q1.cwiseAbs().maxCoeff()});
+  if (!(big > 0.0) || !std::isfinite(big)) return intersect_scaled(p0, p1, q0, q1, tol);  // all zero, or NaN/inf
+  const int e = std::ilogb(big);
+  const auto scaled = [e](const Point2& v) { return Point2(std::scalbn(v.x(), -e), std::scalbn(v.y(), -e)); };
+  SegmentHit h = intersect_scaled(scaled(p0), scaled(p1), scaled(q0), scaled(q1), tol);
+  h.point = Point2(std::scalbn(h.point.x(), e), std::scalbn(h.point.y(), e));
+  return h;
+}
+
 PolylineDistance closest_point_on_polyline(const Point2& p, const PointsRef& points) {
   if (points.rows() == 0) throw std::invalid_argument("closest_point_on_polyline: the polyline has no points");
   PolylineDistance best;
@@ -152,9 +197,9 @@ double point_polyline_distance(const Point2& p, const PointsRef& points) {
 }
 
 double polyline_length(const PointsRef& points) {
-  double length = 0.0;
-  for (Eigen::Index i = 0; i + 1 < points.rows(); ++i) length += (points.row(i + 1) - points.row(i)).norm();
-  return length;
+  double total = 0.0;
+  for (Eigen::Index i = 0; i + 1 < points.rows(); ++i) total += length(points.row(i + 1) - points.row(i));
+  return total;
 }
 
 bool polyline_self_intersects(const PointsRef& points, double tol) {

@@ -1,5 +1,6 @@
 #include "wingcrack/sif.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <stdexcept>
@@ -68,6 +69,12 @@ TipSIFs displacement_correlation(const VectorsRef& u_b, const VectorsRef& u_c, c
 
 double mts_angle(double KI, double KII) {
   if (KII == 0.0) return 0.0;
+  // The angle depends on KI / KII only: scaling both by the larger keeps
+  // subnormal SIFs (which hold few digits in hypot and the quotient) and
+  // huge ones as accurate as O(1) ones.
+  const double big = std::max(std::abs(KI), std::abs(KII));
+  KI /= big;
+  KII /= big;
   const double root = std::hypot(KI, std::sqrt(8.0) * KII);  // no overflow of the squares
   // For KI > 0 the numerator KI - root cancels as KII -> 0; multiplying by
   // (KI + root) gives the same value without the cancellation, so theta

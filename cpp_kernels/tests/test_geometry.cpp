@@ -78,6 +78,25 @@ TEST(TipFrame, RejectsDegenerateInput) {
   EXPECT_NO_THROW(tip_frame(poly({{0, 0}, {1, 0}, {1, 0}}), 0));
 }
 
+TEST(TipFrame, UnitOnTinyAndHugeSegments) {
+  // Found by the hypothesis tests: ex = d / d.norm() was 1.0000025 long for
+  // d = (0, 6.9e-166), whose squared norm underflows.
+  for (const double L : {6.9e-166, 1e-300, 5e-324, 1e-3, 1e150, 1e300}) {
+    for (const Point2& dir : {Point2(0, 1), Point2(1, 1), Point2(-3, 4)}) {
+      Points2 p(2, 2);
+      p.row(0) << 0.0, 0.0;
+      p.row(1) = (L * dir).transpose();
+      if (p.row(1).isZero()) continue;  // the product underflowed to zero
+      const TipFrame f = tip_frame(p, 1);
+      EXPECT_NEAR(f.ex.norm(), 1.0, 1e-15) << "L = " << L;
+      EXPECT_NEAR(f.ey.norm(), 1.0, 1e-15);
+      EXPECT_NEAR(f.ex.dot(f.ey), 0.0, 1e-15);
+      const Point2 d = p.row(1).transpose();
+      EXPECT_GT(f.ex.dot(d / d.cwiseAbs().maxCoeff()), 0.0);
+    }
+  }
+}
+
 TEST(SegmentIntersection, Crossing) {
   const SegmentHit h = both_orders({0, 0}, {2, 2}, {0, 2}, {2, 0});
   EXPECT_TRUE(h.hit);
@@ -136,6 +155,56 @@ TEST(SegmentIntersection, ParallelDisjoint) {
   EXPECT_FALSE(both_orders({0, 0}, {2, 0}, {0, 1e-6}, {2, 1e-6}).hit);
   EXPECT_TRUE(both_orders({0, 0}, {2, 0}, {0, 1e-6}, {2, 1e-6}, 1e-6).hit);  // eps = 2e-6
   EXPECT_FALSE(both_orders({0, 0}, {2, 0}, {0, 1}, {2, 1}).hit);
+}
+
+TEST(SegmentIntersection, TiesResolveAlikeInBothOrders) {
+  // Found by the hypothesis tests: with several equally close ends the first
+  // one in argument order won, so for antiparallel segments the two orders
+  // gave (t, s) = (0, 1) and point (0, 0.5) versus (1, 0) swapped and (1, 0.5).
+  const SegmentHit anti = both_orders({0, 0}, {1, 0}, {1, 1}, {0, 1});
+  EXPECT_FALSE(anti.hit);
+  EXPECT_NEAR(anti.point.y(), 0.5, 1e-15);
+  // a tiny segment against a point: equally close within rounding
+  both_orders({0, 1.9e-141}, {0, 0}, {0, -1e-6}, {0, -1e-6});
+  // a V junction whose two touching contacts agree in distance and point and
+  // differ only in s = 3.6e-45 against 0 (t + s rounds to 1 for both)
+  EXPECT_TRUE(both_orders({0, 0}, {1e-6, 0}, {1e-6, 5.96544755080558e-29}, {2e-6, 0}, 1e-9).hit);
+  // a point against a point: both parameters 0, whichever end is asked
+  const SegmentHit pts = both_orders({0, 0}, {0, 0}, {0, 1}, {0, 1});
+  EXPECT_EQ(pts.t, 0.0);
+  EXPECT_EQ(pts.s, 0.0);
+  // ties inside the tolerance band: a collinear overlap of antiparallel segments
+  const SegmentHit overlap = both_orders({0, 0}, {2, 0}, {3, 0}, {1, 0});
+  EXPECT_TRUE(overlap.hit);
+  expect_point(overlap.point, Point2(1.5, 0));
+  // NaN input gives no hit and no out-of-bounds read (the sanitizer build checks)
+  const double nan = std::nan("");
+  EXPECT_FALSE(segment_intersection({nan, 0}, {1, 0}, {0, 1}, {1, nan}).hit);
+}
+
+TEST(SegmentIntersection, ExactlyScaleInvariantAcrossPowersOfTwo) {
+  // Found by the hypothesis tests: at 1e-180 m the cross products underflow,
+  // and reversing a segment turned a touch into a miss. The points are now
+  // scaled by a power of two first, so any power-of-two scale gives the same
+  // verdict and parameters, and the point scaled exactly.
+  const Point2 a0(0, 2.74917508e-174), a1(2.74917508e-174, 0), b0(0, 0), b1(2.74917508e-174, 0);
+  EXPECT_EQ(segment_intersection(a0, a1, b0, b1, 1e-9).hit, segment_intersection(a1, a0, b1, b0, 1e-9).hit);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int i = 0; i < 2000; ++i) {
+    // every fourth case a touch: q0 placed on p
+    const Point2 p0(U(rng), U(rng)), p1(U(rng), U(rng)), q1(U(rng), U(rng));
+    const Point2 q0 = i % 4 ? Point2(U(rng), U(rng)) : Point2(p0 + 0.375 * (p1 - p0));
+    const SegmentHit ref = segment_intersection(p0, p1, q0, q1, 1e-9);
+    for (const int e : {-1000, -600, -300, -170, 170, 300, 600}) {
+      const double f = std::ldexp(1.0, e);
+      const SegmentHit h = both_orders(f * p0, f * p1, f * q0, f * q1, 1e-9);
+      ASSERT_EQ(h.hit, ref.hit) << "case " << i << ", scale 2^" << e;
+      EXPECT_EQ(h.t, ref.t);
+      EXPECT_EQ(h.s, ref.s);
+      EXPECT_EQ(h.point, f * ref.point);
+    }
+  }
 }
 
 TEST(SegmentIntersection, ZeroLengthSegmentsAreNaNFree) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include "wingcrack/sif.hpp"
 
@@ -217,6 +218,18 @@ TEST(MTS, ContinuousAsKIIVanishes) {
       const double theta = mts_angle(1.0, sign * KII);
       ASSERT_TRUE(std::isfinite(theta));
       EXPECT_NEAR(theta, -2 * sign * KII, KII * (10 * KII * KII + 1e-15));
+    }
+}
+
+TEST(MTS, ScaleInvariantDownToSubnormals) {
+  // Found by the hypothesis tests: mts_angle(0, 2.2e-310) was 1.2309594173407779
+  // instead of 1.2309594173407747 (hypot and the quotient of subnormals keep
+  // few digits). The angle depends on KI / KII only; with power-of-two scales
+  // the products below are exact, so the angles must agree exactly.
+  for (const int e : {-1060, -1035, -1000, -500, 0, 500, 1000})
+    for (const auto& [KI, KII] : {std::pair{0.0, 1.0}, {0.0, -3.0}, {1.0, 1.0}, {-5.0, 2.0}, {7.0, -1.0}, {-1.0, 9.0}}) {
+      const double s = std::ldexp(1.0, e);
+      EXPECT_EQ(mts_angle(s * KI, s * KII), mts_angle(KI, KII)) << "scale 2^" << e << ", KI " << KI << ", KII " << KII;
     }
 }
 
