@@ -20,7 +20,7 @@ STAMP := $(VENV)/.wingcrack-installed
 # Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
 KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
-.PHONY: setup apt venv demo test test-cpp test-py bench clean
+.PHONY: setup apt venv demo test test-cpp test-cpp-sanitize test-py bench clean
 
 setup: apt $(STAMP) $(KERNELSPEC)
 
@@ -48,12 +48,23 @@ $(KERNELSPEC): $(STAMP)
 demo: setup
 	$(VENV)/bin/wingcrack run cases/brazilian_disc_45.toml -o results/brazilian_disc_45
 
-test: setup test-cpp test-py
+test: setup test-cpp test-cpp-sanitize test-py
 
 test-cpp: apt
 	cmake -S . -B build/cpp -G Ninja -DWINGCRACK_PYTHON=OFF -DWINGCRACK_TESTS=ON -DCMAKE_BUILD_TYPE=Release > /dev/null
 	cmake --build build/cpp
 	cd build/cpp && ctest --output-on-failure
+
+# The same GoogleTest suite built with AddressSanitizer and UBSan (Debug, so
+# Eigen's own index assertions are on too); any finding stops the test with
+# a non-zero exit. On the 2-core machine: 50-110 s to build from scratch,
+# about 7 s to run (the Release suite: 0.6 s).
+SANITIZE_ENV := ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0 \
+  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+test-cpp-sanitize: apt
+	cmake -S . -B build/asan -G Ninja -DWINGCRACK_PYTHON=OFF -DWINGCRACK_TESTS=ON -DWINGCRACK_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug > /dev/null
+	$(SANITIZE_ENV) cmake --build build/asan
+	cd build/asan && $(SANITIZE_ENV) ctest --output-on-failure
 
 test-py: setup
 	$(PY) -m pytest -q
