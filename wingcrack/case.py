@@ -34,6 +34,27 @@ LOADS = ("scale", "fixed")
 REL_TOL = 1e-9
 #: Sample points per named boundary for the rigid-body check.
 _SAMPLES = 8
+#: A case file is a page of text; anything larger is refused before parsing
+#: (a 10 MB list of points would otherwise take minutes in the O(n^2) checks).
+MAX_FILE_BYTES = 1 << 20
+#: The domain size (m) the mesher and solver are verified for: a plate of
+#: 1e-9 m and of 1e9 m give the same scaled SIFs; at 1e20 m gmsh aborts and
+#: at 1e30 m it hangs.
+LENGTH_RANGE = (1e-9, 1e9)
+#: Coordinates at most this many domain sizes from the origin: beyond it the
+#: rounding of a coordinate (|x| 2.2e-16) nears the geometric tolerance REL_TOL.
+MAX_OFFSET = 1e6
+#: mesh.tip_size at least this fraction of the domain size: a smaller rosette
+#: lies within 1000 geometric tolerances of its tip.
+MIN_TIP_FRACTION = 1e3 * REL_TOL
+#: The most triangles mesh.size may ask for (area / (sqrt(3)/4 size^2)):
+#: about 16 million P2 DOFs, beyond what the 2-core, 24 GB machines factorise.
+MAX_ELEMENTS = 4_000_000
+#: The most triangles in one tip rosette (one degree each).
+MAX_SECTORS = 360
+#: The most fractures, points per polyline and boundary conditions: the
+#: pairwise checks are quadratic in these.
+MAX_ITEMS = 1000
 
 
 # ---------------------------------------------------------------- data model
@@ -204,13 +225,26 @@ class Case:
         path = Path(path)
         try:
             with open(path, "rb") as fh:
-                data = tomllib.load(fh)
+                raw = fh.read(MAX_FILE_BYTES + 1)
         except OSError as err:
             raise CaseError(str(path), f"cannot read: {err.strerror or err}") from None
+        if len(raw) > MAX_FILE_BYTES:
+            raise CaseError(str(path), f"too large for a case file (over {MAX_FILE_BYTES} bytes)")
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as err:
+            line = raw.count(b"\n", 0, err.start) + 1
+            column = err.start - (raw.rfind(b"\n", 0, err.start) + 1) + 1
+            raise CaseError(str(path), f"not UTF-8 text: byte 0x{raw[err.start]:02x} "
+                                       f"at line {line}, column {column}") from None
+        try:
+            data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as err:
             raise CaseError(str(path), f"not valid TOML: {err}") from None
-        except UnicodeDecodeError:
-            raise CaseError(str(path), "not valid TOML: not UTF-8 text") from None
+        except RecursionError:
+            raise CaseError(str(path), "not valid TOML: arrays or tables nested too deeply") from None
+        except ValueError as err:  # an integer over Python's 4300-digit limit of int(str)
+            raise CaseError(str(path), f"not valid TOML: {str(err).split(';')[0]}") from None
         case = cls.from_dict(data, source=path)
         if "title" not in data:
             case = replace(case, title=path.stem)
@@ -292,7 +326,8 @@ def _as_number(v, key: str) -> float:
     except OverflowError:
         x = math.inf
     if not math.isfinite(x):
-        raise CaseError(key, f"must be a finite number, got {v}")
+        got = f"an integer of {len(str(abs(v)))} digits" if isinstance(v, int) else str(v)
+        raise CaseError(key, f"must be a finite number, got {got}")
     return x
 
 
@@ -376,6 +411,8 @@ class _Table:
         v, _ = self._get(k, _REQUIRED)
         if not isinstance(v, list):
             raise CaseError(self.key(k), f"expected an array of [x, y], got {_what(v)}")
+        if len(v) > MAX_ITEMS:
+            raise CaseError(self.key(k), f"at most {MAX_ITEMS} points, got {len(v)}")
         pts = [_as_point(p, f"{self.key(k)}[{i}]") for i, p in enumerate(v)]
         return np.array(pts, dtype=float).reshape(-1, 2)
 
@@ -392,6 +429,8 @@ class _Table:
         v = self.data[k]
         if not isinstance(v, list):
             raise CaseError(self.key(k), f"expected an array of tables ([[{k}]]), got {_what(v)}")
+        if len(v) > MAX_ITEMS:
+            raise CaseError(self.key(k), f"at most {MAX_ITEMS} entries, got {len(v)}")
         return [_Table(item, f"{self.key(k)}[{i}]") for i, item in enumerate(v)]
 
 
@@ -437,21 +476,37 @@ def _parse_domain(t: _Table):
         geo["center"] = t.point("center")
         geo["radius"] = t.number("radius")
         _require_positive(geo["radius"], t.key("radius"))
+        _check_scale(2 * geo["radius"], np.abs(geo["center"]).max(), t.key("radius"), t.key("center"))
     elif shape == "rectangle":
         geo["corner"] = t.point("corner")
         geo["size"] = t.point("size")
         for i, name in enumerate(("width", "height")):
             _require_positive(geo["size"][i], f"{t.key('size')}[{i}]", f"{name} must be > 0")
+        _check_scale(max(geo["size"]), np.abs(geo["corner"]).max(), t.key("size"), t.key("corner"))
     else:
         pts = t.points("points")
         if len(pts) < 3:
             raise CaseError(t.key("points"), f"a polygon needs at least 3 points, got {len(pts)}")
+        # before _check_polygon, whose products would overflow
+        with np.errstate(over="ignore"):
+            extent = float(np.ptp(pts, axis=0).max())
+        _check_scale(extent, np.abs(pts).max(), t.key("points"), t.key("points"))
         _check_polygon(pts, t.key("points"))
         geo["points"] = pts
     try:
         return Domain(shape, **geo)
     except ValueError as err:  # anything meshing refuses that the checks above let through
         raise CaseError(t.path, str(err)) from None
+
+
+def _check_scale(size: float, offset: float, size_key: str, offset_key: str) -> None:
+    """The domain's size within LENGTH_RANGE, and its coordinates within MAX_OFFSET sizes of the origin."""
+    lo, hi = LENGTH_RANGE
+    if not lo <= size <= hi:
+        raise CaseError(size_key, f"a domain {size:g} m across is outside the verified range {lo:g} .. {hi:g} m")
+    if offset > MAX_OFFSET * size:
+        raise CaseError(offset_key, f"coordinates {offset:g} m from the origin are over {MAX_OFFSET:g} times "
+                                    f"the domain size ({size:g} m): move the origin near the domain")
 
 
 def _check_polygon(pts: np.ndarray, key: str) -> None:
@@ -551,7 +606,22 @@ def _parse_mesh(t: _Table) -> MeshOptions:
     sectors = t.integer("sectors", 32)
     if sectors < 8:
         raise CaseError(t.key("sectors"), f"must be >= 8 (32 recommended), got {sectors}")
+    if sectors > MAX_SECTORS:
+        raise CaseError(t.key("sectors"), f"must be <= {MAX_SECTORS} (32 recommended), got {sectors}")
     return MeshOptions(size, tip, adaptive, sectors)
+
+
+def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
+    """Sizes the mesher can honour in this domain: not too many triangles, a
+    rosette well above the geometric tolerance."""
+    L = float(domain.length_scale())
+    cells = domain.area() / (math.sqrt(3) / 4 * mesh.size**2)
+    if cells > MAX_ELEMENTS:
+        raise CaseError("mesh.size", f"{mesh.size:g} m asks for about {cells:.2g} elements in this domain of "
+                                     f"{domain.area():.4g} m^2 (at most {MAX_ELEMENTS:.2g}): use a larger size")
+    if mesh.tip_size < MIN_TIP_FRACTION * L:
+        raise CaseError("mesh.tip_size", f"{mesh.tip_size:g} m is below {MIN_TIP_FRACTION:g} of the domain size "
+                                         f"({L:g} m): too close to the geometric tolerance")
 
 
 def _parse_propagation(t: _Table, tip_size: float) -> Propagation:
@@ -594,7 +664,7 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     for bt, bc in zip(bc_tables, bcs):
         if bc.at is not None:
             _check_bc_point(bc.at, bt.key("at"), domain, fractures, tol)
-    _check_bc_conflicts(bcs, tol)
+    _check_bc_conflicts(bcs, domain, tol)
 
     bt = top.table("body")
     bt.only(["gravity"])
@@ -607,6 +677,7 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     stress = Stress(st.number("sxx", 0.0), st.number("syy", 0.0), st.number("sxy", 0.0))
 
     mesh = _parse_mesh(top.table("mesh", required=True))
+    _check_mesh_against_domain(mesh, domain)
     _check_mesh_against_fractures(mesh, fractures, domain, tol)
     propagation = _parse_propagation(top.table("propagation"), mesh.tip_size)
 
@@ -622,7 +693,21 @@ def _strictly_inside(domain, p, tol) -> bool:
     return bool(domain.contains(p)) and not domain.on_boundary(p, tol)
 
 
+def _far_outside(domain, p) -> bool:
+    """p outside the domain's bounding box grown by its size: decided without
+    the distance computations, whose squares overflow for p ~ 1e200."""
+    L = float(domain.length_scale())
+    if domain.shape == "disc":
+        lo, hi = domain.center - domain.radius, domain.center + domain.radius
+    else:
+        lo, hi = domain.vertices().min(axis=0), domain.vertices().max(axis=0)
+    return bool(np.any(np.asarray(p) < lo - L) or np.any(np.asarray(p) > hi + L))
+
+
 def _check_fracture_geometry(pts: np.ndarray, key: str, domain, tol: float) -> None:
+    for i, p in enumerate(pts):
+        if _far_outside(domain, p):
+            raise CaseError(f"{key}[{i}]", f"({p[0]:g}, {p[1]:g}) is outside the domain")
     seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     for i, s in enumerate(seg):
         if s <= tol:
@@ -656,6 +741,8 @@ def _check_fracture_geometry(pts: np.ndarray, key: str, domain, tol: float) -> N
                 )
                 if not at_mouth:
                     raise CaseError(key, f"segment {i} crosses the boundary edge{j}")
+    if domain.on_boundary(pts[0], tol) and domain.on_boundary(pts[-1], tol):
+        raise CaseError(key, "both ends lie on the boundary: the fracture cuts the domain in two")
 
 
 def _check_fractures_apart(polylines: list[np.ndarray], tol: float) -> None:
@@ -666,6 +753,8 @@ def _check_fractures_apart(polylines: list[np.ndarray], tol: float) -> None:
 
 
 def _check_bc_point(p, key: str, domain, fractures, tol: float) -> None:
+    if _far_outside(domain, p):
+        raise CaseError(key, f"({p[0]:g}, {p[1]:g}) is not on the boundary (it is far outside the domain)")
     if not domain.on_boundary(np.asarray(p, dtype=float), tol):
         d = float(domain.distance_to_boundary(np.asarray(p, dtype=float)))
         raise CaseError(key, f"({p[0]:g}, {p[1]:g}) is not on the boundary (it is {d:.3g} m away)")
@@ -674,21 +763,52 @@ def _check_bc_point(p, key: str, domain, fractures, tol: float) -> None:
             raise CaseError(key, f"({p[0]:g}, {p[1]:g}) is the mouth of fractures[{i}]; a point condition there is ambiguous")
 
 
-def _check_bc_conflicts(bcs, tol: float) -> None:
-    """Two displacement conditions at one place prescribing one component differently."""
+def _on_named_boundary(domain, name: str, p, tol: float) -> bool:
+    if domain.shape == "disc":
+        return bool(domain.on_boundary(np.asarray(p, dtype=float), tol))
+    v = domain.vertices()
+    i = domain.edge_names().index(name)
+    return _kernels.point_segment_distance(np.asarray(p, dtype=float), v[i], v[(i + 1) % len(v)])[0] <= tol
+
+
+def _meeting_place(a: BC, b: BC, domain, tol: float) -> str | None:
+    """Where the places of two conditions meet, as text, or None when apart:
+    two points, a point on a named boundary, one boundary twice, or two
+    boundaries sharing a corner."""
+    if a.at is not None and b.at is not None:
+        return "at the same place" if math.dist(a.at, b.at) <= tol else None
+    if a.at is not None or b.at is not None:
+        p, name = (a.at, b.on) if a.at is not None else (b.at, a.on)
+        return f"at ({p[0]:g}, {p[1]:g})" if _on_named_boundary(domain, name, p, tol) else None
+    if a.on == b.on:
+        return "at the same place"
+    if domain.shape == "disc":
+        return None
+    names, v = domain.edge_names(), domain.vertices()
+    i, j = names.index(a.on), names.index(b.on)
+    n = len(v)
+    shared = [k for k in ((i + 1) % n, i) if k in ((j + 1) % n, j)]  # edge k runs from vertex k to k+1
+    if not shared:
+        return None
+    x, y = v[shared[0]]
+    return f"at the corner ({x:g}, {y:g})"
+
+
+def _check_bc_conflicts(bcs, domain, tol: float) -> None:
+    """Two displacement conditions prescribing one component differently at a
+    place they share: a point, a point on a boundary, a boundary's corner."""
     seen: list[tuple[int, BC]] = []
     for j, bc in enumerate(bcs):
         if bc.kind != "displacement":
             continue
         for i, other in seen:
-            same_place = (bc.on is not None and bc.on == other.on) or (
-                bc.at is not None and other.at is not None and math.dist(bc.at, other.at) <= tol
-            )
-            if not same_place:
+            differ = [name for c, name in enumerate("xy")
+                      if bc.components[c] and other.components[c] and bc.value[c] != other.value[c]]
+            if not differ:
                 continue
-            for c, name in enumerate("xy"):
-                if bc.components[c] and other.components[c] and bc.value[c] != other.value[c]:
-                    raise CaseError(f"bc[{j}]", f"displacement {name} conflicts with bc[{i}] at the same place")
+            where = _meeting_place(bc, other, domain, tol)
+            if where is not None:
+                raise CaseError(f"bc[{j}]", f"displacement {differ[0]} conflicts with bc[{i}] {where}")
         seen.append((j, bc))
 
 
