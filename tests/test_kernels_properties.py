@@ -12,8 +12,9 @@ sigma_theta (eq. 9), so K_eq (eq. 10) >= max(KI, 0) whenever KII != 0, and
 |theta| <= arccos(1/3) = 70.53 deg < pi/2 whenever KI >= 0.
 
 Each test runs a bounded number of examples with no deadline, so the file
-stays under ~15 s on the 2-core machine; the example database is off (no
-.hypothesis folder in the tree), so a failure is reported with its inputs.
+stays under ~15 s on the 2-core machine; the example database is off, so
+a run does not depend on earlier ones and a failure is reported with its
+inputs (hypothesis still keeps a self-ignored cache in .hypothesis/).
 """
 from __future__ import annotations
 
