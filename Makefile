@@ -11,7 +11,7 @@ export OMP_NUM_THREADS ?= 1
 # scipy, MUMPS) at OpenBLAS instead of the reference BLAS: the factorisation
 # runs ~1.8x and dense solves ~6x faster. Serial: one thread per MPI rank.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
-  libgtest-dev googletest python3-scipy python3-matplotlib python3-meshio \
+  libgtest-dev googletest python3-scipy python3-matplotlib python3-pil python3-meshio \
   python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build \
   libopenblas0-serial \
   python3-nbclient python3-nbformat python3-ipykernel
@@ -46,7 +46,7 @@ $(KERNELSPEC): $(STAMP)
 	  --display-name "Python (wingcrack)" --env PYDEVD_DISABLE_FILE_VALIDATION 1 > /dev/null
 
 demo: setup
-	$(VENV)/bin/wingcrack run cases/brazilian_disc_45.toml -o results/brazilian_disc_45
+	$(VENV)/bin/wingcrack run cases/brazilian_disc_45.toml -o results/brazilian_disc_45 --force
 
 test: setup test-cpp test-cpp-sanitize test-py
 

@@ -184,8 +184,9 @@ def fake_api(monkeypatch):
     api.behaviour = None
 
     def make(name):
-        def command(case, out, quiet, progress=None):
+        def command(case, out, quiet, progress=None, **options):
             api.calls.append((name, case, out, quiet))
+            api.options = options
             if api.behaviour is not None:
                 raise api.behaviour
 
@@ -208,6 +209,16 @@ def test_sif_and_run_call_the_api(fake_api, tmp_path, command, capsys):
     assert case.source == CASES[0] and case.fractures
     assert cli.main([command, str(CASES[0]), "-o", str(out)]) == 0
     assert fake_api.calls[1][3] is False
+
+
+def test_force_and_no_plots_reach_the_api(fake_api, tmp_path):
+    out = str(tmp_path / "out")
+    assert cli.main(["run", str(CASES[0]), "-o", out, "--quiet"]) == 0
+    assert fake_api.options == {"plots": True, "force": False}
+    assert cli.main(["run", str(CASES[0]), "-o", out, "--quiet", "--no-plots", "--force"]) == 0
+    assert fake_api.options == {"plots": False, "force": True}
+    assert cli.main(["sif", str(CASES[0]), "-o", out, "--quiet", "--force"]) == 0
+    assert fake_api.options == {"force": True}
 
 
 def test_computation_error_exits_1(fake_api, tmp_path, capsys):

@@ -4,24 +4,25 @@ IJSS 2020).
 
     import wingcrack
     case = wingcrack.Case.from_toml("cases/brazilian_disc_45.toml")
-    result = wingcrack.sif(case, out="results/disc45")
+    result = wingcrack.sif(case, out="results/disc45")   # or run(case, out=...)
+    wingcrack.plot("results/disc45")                       # the pictures again
 
 DOLFINx is imported only when a computation starts, so reading and checking
 cases stays fast.
 """
 __version__ = "0.1.0"
 
-__all__ = ["Case", "CaseError", "ComputationError", "sif", "__version__"]
+__all__ = ["Case", "CaseError", "ComputationError", "FolderError", "sif", "run", "plot", "__version__"]
 
 
 def __getattr__(name):
     if name == "Case":
         from .case import Case
         return Case
-    if name in ("CaseError", "ComputationError"):
+    if name in ("CaseError", "ComputationError", "FolderError"):
         from . import errors
         return getattr(errors, name)
-    if name == "sif":
-        from .api import sif
-        return sif
+    if name in ("sif", "run", "plot"):
+        from . import api
+        return getattr(api, name)
     raise AttributeError(f"module 'wingcrack' has no attribute {name!r}")

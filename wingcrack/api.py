@@ -150,14 +150,24 @@ def _step(step, load_factor, dofs, cells, tips, seconds, contact=None, KIc=None)
     }
 
 
-def _prepare_out(out):
+def _prepare_out(out, force: bool = False) -> Path:
+    """io.outdir.prepare on rank 0; every rank raises its FolderError."""
     from mpi4py import MPI
 
-    out = Path(out)
-    if MPI.COMM_WORLD.rank == 0:
-        out.mkdir(parents=True, exist_ok=True)
-    MPI.COMM_WORLD.barrier()
-    return out
+    from .errors import FolderError
+    from .io.outdir import prepare
+
+    comm = MPI.COMM_WORLD
+    problem = None
+    if comm.rank == 0:
+        try:
+            prepare(out, force)
+        except FolderError as err:
+            problem = (err.path, err.reason)
+    problem = comm.bcast(problem, root=0)
+    if problem is not None:
+        raise FolderError(*problem)
+    return Path(out)
 
 
 def _write_failure(case, out, reason: str, steps=()):
@@ -169,21 +179,23 @@ def _write_failure(case, out, reason: str, steps=()):
         write_summary(Path(out) / "summary.json", _summary(case, f"failed: {reason}", list(steps)))
 
 
-def sif(case, out=None, quiet: bool = True, status: str = "finished") -> SifResult:
+def sif(case, out=None, quiet: bool = True, status: str = "finished", force: bool = False) -> SifResult:
     """One solve of the initial geometry (with contact on non-open faces) and
     the SIFs of every tip.
 
     With `out`, writes summary.json, fractures.png, fields.vtu (displacement,
-    stress) and faces.vtu (opening, slip, contact traction) there. A failed
-    computation raises ComputationError after writing a summary whose status
-    is "failed: <reason>".
+    stress) and faces.vtu (opening, slip, contact traction) there. A folder
+    holding a previous result raises FolderError unless `force` (which
+    deletes that result first; see io.outdir). A failed computation raises
+    ComputationError after writing a summary whose status is
+    "failed: <reason>".
     """
     from mpi4py import MPI
 
     from .errors import ComputationError
 
     if out is not None:
-        out = _prepare_out(out)
+        out = _prepare_out(out, force)
     timer = _Timer()
     try:
         sol = solve_initial(case, timer)
@@ -198,8 +210,9 @@ def sif(case, out=None, quiet: bool = True, status: str = "finished") -> SifResu
         from .io.fields import write_fields
         from .io.pictures import plot_fractures
 
-        files["fields"] = write_fields(out / "fields.vtu", problem, cm)
-        files["faces"] = write_faces(out / "faces.vtu", sol)
+        about = {"step": 0, "load_factor": 1.0}
+        files["fields"] = write_fields(out / "fields.vtu", problem, cm, field_data=about)
+        files["faces"] = write_faces(out / "faces.vtu", sol, field_data=about)
         if MPI.COMM_WORLD.rank == 0:
             files["picture"] = plot_fractures(
                 out / "fractures.png", case.domain,
@@ -220,8 +233,59 @@ def sif(case, out=None, quiet: bool = True, status: str = "finished") -> SifResu
                      contact=sol.contact)
 
 
-def run(case, out=None, quiet: bool = True, progress=None):
-    """Grow the case's wing cracks (see wingcrack.propagation.loop.run)."""
+def run(case, out=None, quiet: bool = True, progress=None, plots: bool = True, force: bool = False):
+    """Grow the case's wing cracks (see wingcrack.propagation.loop.run).
+
+    With `out`: the folder must not hold a previous result unless `force`
+    (FolderError; see io.outdir). Writes summary.json, the step files and
+    their ParaView indices, and fractures.png at the end; with `plots` also
+    history.png and the growth animation. A failed run draws the same
+    pictures of its finished steps before raising ComputationError."""
+    from mpi4py import MPI
+
+    from .errors import ComputationError
     from .propagation.loop import run as _run
 
-    return _run(case, out, quiet=quiet, progress=progress)
+    if out is not None:
+        out = _prepare_out(out, force)
+    draw = out is not None and MPI.COMM_WORLD.rank == 0
+    try:
+        result = _run(case, out, quiet=quiet, progress=progress)
+    except ComputationError as err:
+        if draw:
+            try:
+                plot(out, history=plots, animation=plots)
+            except Exception as e:  # noqa: BLE001 - the computation's failure is the news
+                raise ComputationError(f"{err} (pictures not drawn: {' '.join(str(e).split())})") from None
+        raise
+    if draw:
+        result.files.update(plot(out, history=plots, animation=plots))
+    return result
+
+
+def plot(folder, history: bool = True, animation: bool = True, fmt: str | None = None) -> dict:
+    """Draw the pictures of a result folder (a run, finished, stopped or
+    failed, or a solve) from its summary.json and step files, and return
+    {name: path}: fractures.png always; with at least one step, history.png
+    (load factor, K_eq of every tip, DOFs) and growth.gif / growth.mp4
+    (`fmt`, default mp4 when ffmpeg is on PATH), unless switched off.
+
+    Only these pictures are (re)written: they are views of the data, which
+    is never touched. Raises FolderError when `folder` is missing, is not a
+    wingcrack result or cannot be written."""
+    from .io.outdir import check_writable, read_result
+    from .io.pictures import fractures_of_result
+
+    result = read_result(folder)
+    folder = check_writable(folder)
+    files = {"picture": fractures_of_result(folder / "fractures.png", result)}
+    if result.steps and history:
+        from .io.history import plot_history
+
+        plot_history(folder / "history.png", result.summary)
+        files["history"] = folder / "history.png"
+    if result.steps and animation:
+        from .io.animation import animate_growth
+
+        files["animation"] = animate_growth(folder, result, fmt)
+    return files

@@ -1,8 +1,12 @@
-"""The command line: `wingcrack check|sif|run|crosscheck CASE [-o OUTDIR] [--quiet] [--debug]`.
+"""The command line: `wingcrack check|sif|run|crosscheck CASE [-o OUTDIR] [--quiet] [--debug]`
+and `wingcrack plot OUTDIR`.
 
-Exit status (case contract): 0 done; 2 the case is invalid (one line
-``wingcrack: error: <key>: <reason>`` on stderr, no traceback); 1 the
-computation failed. Only this module parses arguments and prints.
+Exit status (case contract): 0 done; 2 the case is invalid, or a folder
+cannot be used (an output folder that cannot be written or holds a previous
+result without --force; a folder to plot that is missing or not a wingcrack
+result): one line ``wingcrack: error: <key or path>: <reason>`` on stderr,
+no traceback; 1 the computation failed. Only this module parses arguments
+and prints.
 """
 from __future__ import annotations
 
@@ -12,7 +16,7 @@ import traceback
 from pathlib import Path
 
 from wingcrack import __version__
-from wingcrack.errors import CaseError, ComputationError
+from wingcrack.errors import CaseError, ComputationError, FolderError
 
 PROG = "wingcrack"
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
@@ -39,6 +43,14 @@ def _parser() -> argparse.ArgumentParser:
         c = sub.add_parser(name, parents=[common], help=text)
         c.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
         c.add_argument("-o", "--out", type=Path, required=True, metavar="OUTDIR", help="output directory")
+        c.add_argument("--force", action="store_true",
+                       help="replace a previous result in OUTDIR (its files are deleted first)")
+        if name == "run":
+            c.add_argument("--no-plots", dest="plots", action="store_false",
+                           help="skip history.png and the growth animation (fractures.png is always drawn)")
+    pl = sub.add_parser("plot", parents=[common],
+                        help="draw fractures.png, history.png and growth.gif of a result folder")
+    pl.add_argument("folder", type=Path, metavar="OUTDIR", help="a folder written by `wingcrack run` or `sif`")
     x = sub.add_parser("crosscheck", parents=[common],
                        help="solve with open faces by wingcrack and by scikit-fem on the same mesh, compare")
     x.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
@@ -65,6 +77,8 @@ def _error(message: str) -> None:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
+        if args.command == "plot":
+            return _plot(args)
         from wingcrack.case import Case
 
         case = Case.from_toml(args.case)
@@ -78,14 +92,13 @@ def main(argv: list[str] | None = None) -> int:
 
         if args.command == "run":
             with _progress(case, args.quiet) as progress:
-                result = api.run(case, args.out, args.quiet, progress=progress)
+                result = api.run(case, args.out, args.quiet, progress=progress, plots=args.plots, force=args.force)
         else:
-            result = api.sif(case, args.out, args.quiet)
+            result = api.sif(case, args.out, args.quiet, force=args.force)
         if result is not None:  # where the results are, even with --quiet
-            print(f"{PROG}: {result.summary['status']}; results in {args.out}/: "
-                  + ", ".join(sorted(Path(p).name for p in result.files.values())))
+            print(f"{PROG}: {result.summary['status']}; results in {args.out}/: " + _names(result.files))
         return EXIT_OK
-    except CaseError as err:
+    except (CaseError, FolderError) as err:
         _error(str(err))
         return EXIT_INVALID
     except ComputationError as err:
@@ -101,6 +114,18 @@ def main(argv: list[str] | None = None) -> int:
         hint = "" if args.debug else " (run with --debug for the traceback)"
         _error(f"unexpected {type(err).__name__}: {detail}{hint}")
         return EXIT_FAILED
+
+
+def _names(files: dict) -> str:
+    return ", ".join(sorted(Path(p).name for p in files.values()))
+
+
+def _plot(args) -> int:
+    from wingcrack import api
+
+    files = api.plot(args.folder)
+    print(f"{PROG}: pictures in {args.folder}/: {_names(files)}")
+    return EXIT_OK
 
 
 def _crosscheck(case, args) -> int:
@@ -163,16 +188,22 @@ class _progress:
         return self if self.bar is not None else None
 
     def __call__(self, k, step):
-        secs = {p: v for p, v in step.get("seconds", {}).items() if p != "total"}
-        slow = max(secs, key=secs.get) if secs else "-"
-        self.bar.set_postfix_str(f"load {step['load_factor']:.4g}, {step['dofs']} DOFs, "
-                                 f"{step['contact']['closed']} closed, slowest {slow}")
+        self.bar.set_postfix_str(progress_text(step), refresh=False)
         self.bar.update(1)
 
     def __exit__(self, *exc):
         if self.bar is not None:
             self.bar.close()
         return False
+
+
+def progress_text(step: dict) -> str:
+    """The bar's words for a finished step (a summary.json step)."""
+    secs = {p: v for p, v in step.get("seconds", {}).items() if p != "total"}
+    slow = max(secs, key=secs.get) if secs else None
+    slowest = f"slowest {slow} {secs[slow]:.2f} s" if slow else "slowest -"
+    return (f"load {step['load_factor']:.4g}, {step['dofs']} DOFs, "
+            f"{step['contact']['closed']} closed pairs, {slowest}")
 
 
 # ---------------------------------------------------------------- `check` output

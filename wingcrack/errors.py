@@ -1,4 +1,4 @@
-"""Errors that the command line turns into exit codes (2: case, 1: computation)."""
+"""Errors that the command line turns into exit codes (2: case or folder, 1: computation)."""
 
 
 class CaseError(ValueError):
@@ -12,3 +12,14 @@ class CaseError(ValueError):
 
 class ComputationError(RuntimeError):
     """The computation failed; what was finished is kept on disk."""
+
+
+class FolderError(ValueError):
+    """A folder given on the command line cannot be used: an output folder
+    that cannot be written or holds a previous result, or a folder that is
+    not a wingcrack result. `path` names it; the CLI exits with 2."""
+
+    def __init__(self, path, reason: str):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"{self.path}: {reason}")

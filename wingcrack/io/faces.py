@@ -41,10 +41,13 @@ def closed_segments(sol) -> list:
             if a in closed_nodes and b in closed_nodes]
 
 
-def write_faces(path: Path, sol) -> Path:
+def write_faces(path: Path, sol, field_data: dict | None = None) -> Path:
     """line3 cells of the + faces; point data at the + face nodes (zero at
-    tips, which are not pairs)."""
+    tips, which are not pairs); `field_data` ({name: number}) as in
+    write_fields."""
     import meshio
+
+    from .pvd import add_field_data
 
     cm = sol.cm
     st = face_state(sol)
@@ -61,4 +64,6 @@ def write_faces(path: Path, sol) -> Path:
     frac = np.asarray(cm.crack_fracture, dtype=np.int64)
     meshio.Mesh(pts, [("line3", local.reshape(-1, 3))], point_data=data,
                 cell_data={"fracture": [frac]}).write(Path(path))
+    if field_data:
+        add_field_data(path, field_data)
     return Path(path)

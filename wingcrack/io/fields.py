@@ -1,5 +1,8 @@
 """Field files that ParaView opens: VTU (meshio) of the P2 mesh with nodal
-displacement, total stress and von Mises stress.
+displacement (x, y, 0), total stress as a 3 x 3 tensor (nine components,
+which ParaView treats as a tensor: sxx, sxy, 0, sxy, syy, 0, 0, 0, 0; the
+out-of-plane stress is not computed and is written as 0) and the von Mises
+stress of the in-plane components.
 
 DOLFINx 0.5's XDMF writer pulls mesh nodes back to the reference cell with a
 Newton iteration, which cannot converge in quarter-point cells (their
@@ -57,10 +60,22 @@ def gather_nodal(fm, fields: dict, num_nodes: int) -> dict | None:
     return out
 
 
-def write_fields(path: Path, problem, cm) -> Path:
-    """Write the mesh with displacement, stress (sxx, syy, sxy) and von Mises
-    stress to `path` (.vtu). Collective; rank 0 writes."""
+def stress_tensor(s: np.ndarray) -> np.ndarray:
+    """(n, 9) row-major 3 x 3 tensors from (n, 3) rows (sxx, syy, sxy)."""
+    t = np.zeros((len(s), 9))
+    t[:, 0], t[:, 4] = s[:, 0], s[:, 1]
+    t[:, 1] = t[:, 3] = s[:, 2]
+    return t
+
+
+def write_fields(path: Path, problem, cm, field_data: dict | None = None) -> Path:
+    """Write the mesh with displacement, stress tensor and von Mises stress
+    to `path` (.vtu); `field_data` ({name: number}, e.g. the step and its
+    load factor) goes into the file's field data. Collective; rank 0
+    writes."""
     import meshio
+
+    from .pvd import add_field_data
 
     path = Path(path)
     full = gather_nodal(problem.fm, nodal_fields(problem), len(cm.x))
@@ -68,7 +83,9 @@ def write_fields(path: Path, problem, cm) -> Path:
         points = np.c_[cm.x, np.zeros(len(cm.x))]
         disp = np.c_[full["displacement"], np.zeros(len(cm.x))]
         mesh = meshio.Mesh(points, [("triangle6", np.asarray(cm.cells))],
-                           point_data={"displacement": disp, "stress": full["stress"],
+                           point_data={"displacement": disp, "stress": stress_tensor(full["stress"]),
                                        "von_mises": full["von_mises"]})
         mesh.write(path)
+        if field_data:
+            add_field_data(path, field_data)
     return path

@@ -1,6 +1,10 @@
-"""fractures.png: the domain, every fracture, the tips and their rosettes."""
+"""fractures.png: the domain, every fracture, the tips and their rosettes;
+for a run, the wings coloured by the step that grew them and the faces in
+contact at the last step. `sif` draws it from the solution in memory, a run
+and `wingcrack plot` from the result folder (fractures_of_result)."""
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -19,32 +23,51 @@ def _outline(domain) -> np.ndarray:
 
 
 def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
-                   closed_segments=(), title: str = "", mesh=None) -> Path:
+                   closed_segments=(), title: str = "", mesh=None, growth=(), boundary=None) -> Path:
     """Draw the domain and fractures.
 
-    fractures: list of dicts {"points": (n,2), "origin": "pre-existing"|"wing"};
-    tips: list of dicts with "x", "y", "state"; closed_segments: list of
-    ((x0,y0),(x1,y1)) drawn over the fractures where the faces are in contact.
+    domain: the case's Domain, or None and `boundary`, (k, 2, 2) segments of
+    the outer boundary; fractures: list of dicts {"points": (n,2), "origin":
+    "pre-existing"|"wing"}; tips: list of dicts with "x", "y";
+    closed_segments: polylines ((x0,y0),(x1,y1),...) drawn over the
+    fractures where the faces are in contact; mesh: anything with x (n, 2)
+    and cells (m, >=3), drawn in the zoom; growth: [((x0,y0), (x1,y1),
+    step)], what each step grew, coloured by step.
     """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+    from matplotlib.ticker import MaxNLocator
 
     fig, (ax_full, ax_zoom) = plt.subplots(1, 2, figsize=(11, 5.2))
     if mesh is not None:
         # the straight-sided vertex triangles show the rosettes and grading
         ax_zoom.triplot(mesh.x[:, 0], mesh.x[:, 1], np.asarray(mesh.cells)[:, :3], color="0.8", lw=0.3)
     all_pts = np.vstack([np.asarray(f["points"], float) for f in fractures]) if fractures else np.zeros((0, 2))
+    steps = np.array([g[2] for g in growth], float)
+    n = int(steps.max()) + 1 if len(growth) else 1
+    colours = plt.get_cmap("viridis", n)   # one colour a step
     for ax in (ax_full, ax_zoom):
-        o = _outline(domain)
-        ax.plot(o[:, 0], o[:, 1], color="0.35", lw=1.2)
+        if domain is not None:
+            o = _outline(domain)
+            ax.plot(o[:, 0], o[:, 1], color="0.35", lw=1.2)
+        elif boundary is not None and len(boundary):
+            ax.add_collection(LineCollection(boundary, colors="0.35", linewidths=1.2))
         for f in fractures:
             p = np.asarray(f["points"], float)
             pre = f.get("origin", "pre-existing") == "pre-existing"
-            ax.plot(p[:, 0], p[:, 1], color="black" if pre else "tab:red", lw=1.8 if pre else 1.4,
-                    label="pre-existing" if pre else "wing")
-        for (a, b) in closed_segments:
-            ax.plot([a[0], b[0]], [a[1], b[1]], color="tab:blue", lw=3.5, alpha=0.5, label="closed faces")
+            wing = "tab:red" if not len(growth) else "0.55"
+            ax.plot(p[:, 0], p[:, 1], color="black" if pre else wing, lw=1.8 if pre else 1.4,
+                    label="pre-existing" if pre else ("wing" if not len(growth) else "wing (colour: step)"))
+        if len(growth):
+            lines = LineCollection([(g[0], g[1]) for g in growth], cmap=colours, linewidths=2.0,
+                                   norm=plt.Normalize(-0.5, n - 0.5))
+            lines.set_array(steps)
+            ax.add_collection(lines)
+        for seg in closed_segments:
+            seg = np.asarray(seg, float)
+            ax.plot(seg[:, 0], seg[:, 1], color="tab:blue", lw=3.5, alpha=0.5, label="closed faces")
         for t in tips:
             ax.plot(t["x"], t["y"], "o", ms=4, color="tab:orange")
             if rosette > 0:
@@ -52,7 +75,10 @@ def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
+    ax_full.autoscale_view()
     ax_full.set_title(title or "domain and fractures", fontsize=10)
+    if len(growth):
+        fig.colorbar(lines, ax=ax_zoom, label="step", fraction=0.05, ticks=MaxNLocator(integer=True))
     if len(all_pts):
         lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
         pad = 0.15 * max(hi - lo) + 3 * rosette + 1e-12
@@ -68,3 +94,76 @@ def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def fractures_of_result(path: Path, result) -> Path:
+    """fractures.png of a result folder (an io.outdir.StoredResult): the
+    final fractures from summary.json, the wings coloured by step, and, from
+    the last step's files, the mesh, the outer boundary and the closed faces."""
+    s = result.summary
+    steps = s["steps"]
+    mesh = boundary = None
+    closed, tips = [], []
+    if steps:
+        mesh = result.fields_of(len(steps) - 1)
+        faces = result.faces_of(len(steps) - 1)
+        boundary = outer_boundary(mesh.x, mesh.triangles)
+        closed = faces.lines[faces.closed]
+        tips = [{"x": t["x"], "y": t["y"]} for t in steps[-1]["tips"]]
+    title = f"{s['title']}: {len(steps)} step{'s' if len(steps) != 1 else ''}"
+    if s["status"] != "finished":
+        title += "\n" + textwrap.shorten(s["status"], 70)
+    return plot_fractures(path, None, s["fractures"], tips=tips, rosette=_rosette(mesh, tips),
+                          closed_segments=closed, title=title, mesh=mesh, growth=growth_segments(s),
+                          boundary=boundary)
+
+
+def growth_segments(summary: dict) -> list:
+    """[((x0, y0), (x1, y1), step)]: the straight advance of every tip that
+    grew in each step, from its position in that step to its position in
+    the next (or, after the last step or once it joined or reached the
+    boundary, to its fracture's final end in summary["fractures"])."""
+    pieces = {}
+    for f in summary["fractures"]:
+        if "fracture" in f:   # run summaries: wing at end 0, pre-existing, wing at end 1
+            pieces.setdefault(f["fracture"], []).append(np.asarray(f["points"], float))
+    final = {}
+    for i, p in pieces.items():
+        final[(i, 0)], final[(i, 1)] = p[0][0], p[-1][-1]
+    steps = summary["steps"]
+    out = []
+    for k, step in enumerate(steps):
+        later = {(t["fracture"], t["end"]): (t["x"], t["y"]) for t in steps[k + 1]["tips"]} if k + 1 < len(steps) else {}
+        for t in step["tips"]:
+            key = (t["fracture"], t["end"])
+            end = later.get(key, final.get(key))
+            if t.get("advance", 0.0) > 0 and end is not None:
+                out.append(((t["x"], t["y"]), tuple(map(float, end)), k))
+    return out
+
+
+def outer_boundary(x: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(k, 2, 2) edges of the outer boundary of a cracked mesh: the edges of
+    one triangle only, less the crack faces, which come in coinciding pairs
+    (the faces are split into two copies of each node)."""
+    e = np.sort(np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    edges, count = np.unique(e, axis=0, return_counts=True)
+    edges = edges[count == 1]
+    scale = float(np.ptp(x, axis=0).max()) or 1.0
+    key = np.round(x / scale * 1e9).astype(np.int64)[edges]          # (k, 2, 2)
+    swap = (key[:, 0, 0] > key[:, 1, 0]) | ((key[:, 0, 0] == key[:, 1, 0]) & (key[:, 0, 1] > key[:, 1, 1]))
+    key[swap] = key[swap][:, ::-1]
+    _, where, count = np.unique(key.reshape(-1, 4), axis=0, return_inverse=True, return_counts=True)
+    outer = count[where.ravel()] == 1
+    return x[edges[outer]]
+
+
+def _rosette(mesh, tips) -> float:
+    """The rosette radius: the farthest vertex of the triangles at a tip."""
+    if mesh is None or not tips:
+        return 0.0
+    t = np.array([[p["x"], p["y"]] for p in tips])
+    node = np.argmin(np.linalg.norm(mesh.x[None, :, :] - t[:, None, :], axis=2), axis=1)
+    tri = mesh.triangles
+    r = [np.linalg.norm(mesh.x[tri[np.any(tri == n, axis=1)]] - mesh.x[n], axis=2).max() for n in node]
+    return float(np.median(r))

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from pathlib import Path
+
+from .atomic import write_atomic
 
 
 def _clean(obj):
@@ -29,16 +29,4 @@ def write_summary(path: Path, summary: dict) -> None:
     """Write `summary` as JSON to `path` atomically (temporary file + rename)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    data = json.dumps(_clean(summary), indent=1)
-    fd, tmp = tempfile.mkstemp(prefix=".summary.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    write_atomic(path, json.dumps(_clean(summary), indent=1).encode())

@@ -67,12 +67,11 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     is called after every step (the CLI's progress bar)."""
     from mpi4py import MPI
 
-    from ..api import _Timer, _prepare_out, _step, _summary, all_sifs, build, contact_summary
+    from ..api import _Timer, _step, _summary, all_sifs, build, contact_summary
     from ..io.summary import write_summary
 
     comm = MPI.COMM_WORLD
-    if out is not None:
-        out = _prepare_out(out)
+    out = None if out is None else Path(out)   # made ready by api.run
     fset = FractureSet.from_case(case)
     mat, prop = case.material, case.propagation
     Eprime = mat.E if mat.plane == "stress" else mat.E / (1 - mat.nu ** 2)
@@ -164,7 +163,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             step["solves"] = int(crit.solves) if prop.load == "scale" else 1
             steps.append(step)
             if out is not None:
-                _write_step_fields(out, k, cm, problem, contact)
+                _write_step_fields(out, k, lam, cm, problem, contact)
                 timer.lap("output")
                 step["seconds"]["output"] = round(timer.seconds["output"], 6)
             step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
@@ -181,8 +180,8 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             raise ComputationError(status) from None
     write(status)
     result = RunResult(status, steps, fset, summary_now(status), out, mesh=last[0], problem=last[1], contact=last[2])
-    if out is not None and comm.rank == 0:
-        _final_picture(case, fset, out, result)
+    if out is not None:
+        result.files = _files(out, len(steps))
     return result
 
 
@@ -223,26 +222,35 @@ def _check_no_crossing(fset):
                         raise ComputationError(f"fractures {i} and {j} cross")
 
 
-def _write_step_fields(out, k, cm, problem, contact):
+def _write_step_fields(out, k, load_factor, cm, problem, contact):
+    """step_XXXX.vtu and faces_XXXX.vtu of step k (with the step and its
+    load factor as field data), and the two ParaView indices over steps
+    0..k, rewritten so that an interrupted run keeps a complete index."""
+    from mpi4py import MPI
+
+    from ..api import Solution
     from ..io.faces import write_faces
     from ..io.fields import write_fields
-    from ..api import Solution
+    from ..io.outdir import FACES_PVD, FIELDS_PVD, faces_name, fields_name
+    from ..io.pvd import write_pvd
 
-    write_fields(out / f"step_{k:04d}.vtu", problem, cm)
-    write_faces(out / f"faces_{k:04d}.vtu", Solution(cm, problem, contact, []))
+    about = {"step": k, "load_factor": load_factor}
+    write_fields(out / fields_name(k), problem, cm, field_data=about)
+    write_faces(out / faces_name(k), Solution(cm, problem, contact, []), field_data=about)
+    if MPI.COMM_WORLD.rank == 0:
+        write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
+        write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
 
 
-def _final_picture(case, fset, out, result):
-    from ..io.pictures import plot_fractures
+def _files(out, n) -> dict:
+    """What a run wrote (pictures are added by api.run)."""
+    from ..io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
 
-    tips = [{"x": t["x"], "y": t["y"]} for t in (result.steps[-1]["tips"] if result.steps else [])]
-    result.files["picture"] = plot_fractures(
-        out / "fractures.png", case.domain,
-        [{"points": p, "origin": o} for p, o in (pc for f in fset.fractures for pc in f.pieces())],
-        tips=tips, rosette=case.mesh.tip_size, title=f"{case.title}: {len(result.steps)} steps",
-        mesh=result.mesh)
-    result.files["summary"] = out / "summary.json"
-    if result.steps:   # one field file and one face file per step
-        last = f"{len(result.steps) - 1:04d}"
-        result.files["fields"] = out / ("step_0000.vtu" if last == "0000" else f"step_{{0000..{last}}}.vtu")
-        result.files["faces"] = out / ("faces_0000.vtu" if last == "0000" else f"faces_{{0000..{last}}}.vtu")
+    def span(name):   # step_{0000..0014}.vtu
+        return name(0) if n == 1 else name(0).replace("0000", f"{{0000..{n - 1:04d}}}")
+
+    files = {"summary": out / SUMMARY}
+    if n:   # one field file and one face file per step, and their indices
+        files.update(fields=out / span(fields_name), faces=out / span(faces_name),
+                     fields_pvd=out / FIELDS_PVD, faces_pvd=out / FACES_PVD)
+    return files

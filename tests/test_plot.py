@@ -1,0 +1,386 @@
+"""Issue 6, files people open: the ParaView indices, the pictures of a run
+(fractures.png, history.png, the growth animation), `wingcrack plot` and its
+bad inputs, and what `wingcrack run` prints.
+
+One short propagation (an inclined frictionless crack in a 4 m plate under
+compression: 4 steps, ~7,000 DOFs, closed faces, load factors that repeat)
+is run once through the real command and read by every test.
+"""
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wingcrack import cli
+
+W = 4.0   # plate side (m)
+PLATE = f"""
+title = "Inclined crack under compression"
+[material]
+E = 10e9
+nu = 0.25
+KIc = 1.0e6
+plane = "strain"
+[domain]
+shape = "rectangle"
+corner = [{-W / 2}, {-W / 2}]
+size = [{W}, {W}]
+[[fractures]]
+points = [[-0.35, -0.35], [0.35, 0.35]]
+faces = "frictionless"
+[[bc]]
+on = "top"
+traction = [0.0, -1.0e6]
+[[bc]]
+on = "bottom"
+displacement = [0.0, 0.0]
+[mesh]
+size = 0.5
+tip_size = 0.05
+[propagation]
+steps = 4
+length = 0.1
+"""
+STEPS = 4
+
+
+def wingcrack(*args) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "wingcrack.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=600)
+
+
+@pytest.fixture(scope="module")
+def plate_case(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("case") / "plate.toml"
+    path.write_text(PLATE)
+    return path
+
+
+@pytest.fixture(scope="module")
+def run(plate_case, tmp_path_factory):
+    """(folder, completed process, summary) of `wingcrack run` (no --quiet;
+    stderr is not a terminal, so no bar either)."""
+    out = tmp_path_factory.mktemp("run") / "out"
+    res = wingcrack("run", plate_case, "-o", out)
+    assert res.returncode == 0, res.stderr
+    return out, res, json.loads((out / "summary.json").read_text())
+
+
+# ---------------------------------------------------------------- ParaView
+
+
+@pytest.mark.parametrize("index, pattern", [("fields.pvd", "step_{:04d}.vtu"), ("faces.pvd", "faces_{:04d}.vtu")])
+def test_pvd_lists_exactly_the_step_files_with_increasing_times(run, index, pattern):
+    out, _, summary = run
+    root = ET.parse(out / index).getroot()
+    assert root.tag == "VTKFile" and root.get("type") == "Collection"
+    sets = root.findall("./Collection/DataSet")
+    assert [d.get("file") for d in sets] == [pattern.format(k) for k in range(STEPS)]
+    times = [float(d.get("timestep")) for d in sets]
+    assert times == [float(s["step"]) for s in summary["steps"]]
+    assert all(b > a for a, b in zip(times, times[1:]))
+    assert all((out / d.get("file")).is_file() for d in sets)
+    on_disk = sorted(p.name for p in out.glob(pattern.replace("{:04d}", "*")))
+    assert on_disk == [d.get("file") for d in sets]
+
+
+def test_pvd_refuses_times_that_do_not_increase(tmp_path):
+    from wingcrack.io.pvd import read_pvd, write_pvd
+
+    with pytest.raises(ValueError, match="increase strictly"):
+        write_pvd(tmp_path / "x.pvd", ["a.vtu", "b.vtu"], times=[1.0, 1.0])
+    write_pvd(tmp_path / "x.pvd", ["a.vtu", "b.vtu"], times=[0.5, 2.0])
+    assert read_pvd(tmp_path / "x.pvd") == [(0.5, "a.vtu"), (2.0, "b.vtu")]
+
+
+def test_load_factors_repeat_so_the_time_is_the_step(run):
+    """Why the pvd time is the step number: this run's load factor repeats
+    (growth without a load increase), which ParaView cannot take as time."""
+    lam = [s["load_factor"] for s in run[2]["steps"]]
+    assert len(set(lam)) < len(lam)
+
+
+def test_step_files_hold_the_fields_and_their_load_factor(run):
+    """displacement (x, y, 0); the stress as a symmetric 3 x 3 tensor with
+    no out-of-plane part; von Mises of its in-plane components; the step
+    and load factor as field data (what ParaView shows as global data)."""
+    import meshio
+
+    out, _, summary = run
+    for k, step in enumerate(summary["steps"]):
+        m = meshio.read(out / f"step_{k:04d}.vtu")
+        assert m.field_data["step"][0] == k
+        assert m.field_data["load_factor"][0] == step["load_factor"]
+        u, s, vm = m.point_data["displacement"], m.point_data["stress"], m.point_data["von_mises"]
+        assert u.shape == (len(m.points), 3) and np.all(u[:, 2] == 0)
+        assert s.shape == (len(m.points), 9)
+        t = s.reshape(-1, 3, 3)
+        assert np.array_equal(t, t.transpose(0, 2, 1), equal_nan=True)
+        assert np.all(t[:, 2, :] == 0) and np.all(t[:, :, 2] == 0)
+        ok = np.isfinite(vm)   # a tip node, where the stress is singular, may be NaN
+        assert ok.mean() > 0.99
+        sxx, syy, sxy = t[ok, 0, 0], t[ok, 1, 1], t[ok, 0, 1]
+        assert np.allclose(vm[ok], np.sqrt(sxx ** 2 - sxx * syy + syy ** 2 + 3 * sxy ** 2), rtol=1e-12)
+        f = meshio.read(out / f"faces_{k:04d}.vtu")
+        assert f.field_data["load_factor"][0] == step["load_factor"]
+        assert {"opening", "slip", "normal_traction", "closed"} <= set(f.point_data)
+
+
+# ---------------------------------------------------------------- pictures
+
+
+def test_run_prints_only_where_the_results_are(run):
+    out, res, summary = run
+    assert res.stderr == ""
+    lines = res.stdout.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"wingcrack: finished; results in {out}/: ")
+    for name in ("summary.json", "fields.pvd", "faces.pvd", "fractures.png", "history.png", "growth."):
+        assert name in lines[0]
+
+
+def _animation(out: Path) -> tuple[Path, int]:
+    """The animation and its number of frames (PIL for a GIF, ffprobe for an MP4)."""
+    gif = out / "growth.gif"
+    if gif.exists():
+        from PIL import Image
+
+        with Image.open(gif) as im:
+            return gif, im.n_frames
+    mp4 = out / "growth.mp4"
+    if not shutil.which("ffprobe"):
+        pytest.skip("growth.mp4 written (ffmpeg on PATH) but no ffprobe to count its frames")
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                            "stream=nb_read_frames", "-of", "csv=p=0", str(mp4)], capture_output=True, text=True)
+    return mp4, int(probe.stdout.strip())
+
+
+def test_pictures_exist_and_the_animation_has_a_frame_per_step(run):
+    from PIL import Image
+
+    out, _, summary = run
+    for name in ("fractures.png", "history.png"):
+        with Image.open(out / name) as im:
+            assert im.format == "PNG" and min(im.size) > 300
+    path, frames = _animation(out)
+    assert path.suffix == (".mp4" if shutil.which("ffmpeg") else ".gif")
+    assert frames == len(summary["steps"]) == STEPS
+
+
+def test_history_draws_the_values_of_summary_json(run, tmp_path):
+    from wingcrack.io.history import plot_history
+
+    summary = run[2]
+    drawn = plot_history(tmp_path / "history.png", summary)
+    steps = np.arange(STEPS, dtype=float)
+    x, y = drawn["load factor"]
+    assert np.array_equal(x, steps) and np.array_equal(y, [s["load_factor"] for s in summary["steps"]])
+    x, y = drawn["DOFs"]
+    assert np.array_equal(y, [s["dofs"] for s in summary["steps"]])
+    tips = {(t["fracture"], t["end"]) for s in summary["steps"] for t in s["tips"]}
+    assert len(tips) == 2
+    for f, e in tips:
+        x, y = drawn[f"fracture {f} end {e}"]
+        want = [next(t["K_eq"] for t in s["tips"] if (t["fracture"], t["end"]) == (f, e)) for s in summary["steps"]]
+        assert np.array_equal(y, want)
+
+
+def test_k_eq_is_computed_when_a_summary_lacks_it(run):
+    """A contract summary need not hold K_eq: eq. (10) from KI, KII, theta."""
+    from wingcrack.io.history import history
+
+    summary = json.loads(json.dumps(run[2]))
+    want = history(summary)["k_eq"]
+    for s in summary["steps"]:
+        for t in s["tips"]:
+            del t["K_eq"]
+    got = history(summary)["k_eq"]
+    for key in want:
+        assert np.allclose(got[key], want[key], rtol=1e-12)
+
+
+def test_growth_segments_are_the_advances_of_each_step(run):
+    """Each coloured segment joins a tip's position in a step to where that
+    step took it: its length is the tip's `advance`, one per growing tip."""
+    from wingcrack.io.pictures import growth_segments
+
+    summary = run[2]
+    segs = growth_segments(summary)
+    grown = [(k, t["advance"]) for k, s in enumerate(summary["steps"]) for t in s["tips"] if t["advance"] > 0]
+    assert len(segs) == len(grown) >= STEPS
+    for (p0, p1, k), (k2, adv) in zip(segs, grown):
+        assert k == k2
+        assert abs(np.hypot(p1[0] - p0[0], p1[1] - p0[1]) - adv) < 1e-12 * max(adv, 1.0)
+
+
+def test_closed_faces_come_from_the_face_files(run):
+    """Every step of this run has faces in contact (summary.json), and the
+    face files mark closed edges where fractures.png draws them."""
+    from wingcrack.io.outdir import read_result
+
+    out, _, summary = run
+    result = read_result(out)
+    for k, s in enumerate(summary["steps"]):
+        assert s["contact"]["closed"] > 0
+        assert result.faces_of(k).closed.any()
+
+
+def test_outer_boundary_of_the_cracked_mesh_is_the_plate(run):
+    """The mesh's free edges less the (paired) crack faces: the 4 x 4 plate,
+    perimeter 16 m, every edge on a side."""
+    from wingcrack.io.outdir import read_result
+    from wingcrack.io.pictures import outer_boundary
+
+    result = read_result(run[0])
+    mesh = result.fields_of(STEPS - 1)
+    b = outer_boundary(mesh.x, mesh.triangles)
+    assert abs(np.linalg.norm(b[:, 1] - b[:, 0], axis=1).sum() - 4 * W) < 1e-9
+    assert np.all(np.isclose(np.abs(b), W / 2).any(axis=2))
+
+
+def test_plot_redraws_the_pictures_and_leaves_the_data(run, tmp_path, capsys):
+    """`wingcrack plot` on a copy of the result: the three pictures again,
+    the data files byte for byte unchanged, one line on stdout."""
+    out = tmp_path / "copy"
+    shutil.copytree(run[0], out)
+    data = {p.name: p.read_bytes() for p in out.iterdir() if p.suffix in (".json", ".vtu", ".pvd")}
+    pictures = ("fractures.png", "history.png", _animation(out)[0].name)
+    for name in pictures:
+        (out / name).unlink()
+    assert cli.main(["plot", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    assert captured.out == f"wingcrack: pictures in {out}/: " + ", ".join(sorted(pictures)) + "\n"
+    assert all((out / name).is_file() for name in pictures)
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.name in data} == data
+    assert _animation(out)[1] == STEPS
+
+
+def test_plot_of_a_failed_run_draws_its_finished_steps(run, tmp_path):
+    """A run that failed at step 2 keeps steps 0 and 1: plot draws them."""
+    from PIL import Image
+
+    from wingcrack import api
+
+    out = tmp_path / "failed"
+    shutil.copytree(run[0], out)
+    summary = json.loads((out / "summary.json").read_text())
+    summary["status"] = "failed: step 2: gmsh could not mesh (simulated)"
+    summary["steps"] = summary["steps"][:2]
+    (out / "summary.json").write_text(json.dumps(summary))
+    files = api.plot(out, fmt="gif")
+    assert {"picture", "history", "animation"} <= set(files)
+    with Image.open(files["animation"]) as im:
+        assert im.n_frames == 2
+
+
+# ---------------------------------------------------------------- bad input
+
+
+def one_error_line(capsys) -> str:
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in captured.err, captured.err
+    assert captured.out == ""
+    return lines[0]
+
+
+def test_plot_a_missing_folder_exits_2(tmp_path, capsys):
+    assert cli.main(["plot", str(tmp_path / "none")]) == 2
+    assert one_error_line(capsys) == f"wingcrack: error: {tmp_path / 'none'}: no such folder"
+
+
+def test_plot_a_folder_without_summary_exits_2(tmp_path, capsys):
+    (tmp_path / "notes.txt").write_text("not a result")
+    assert cli.main(["plot", str(tmp_path)]) == 2
+    assert one_error_line(capsys) == f"wingcrack: error: {tmp_path}: not a wingcrack result (no summary.json)"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+@pytest.mark.parametrize("text, reason", [
+    ("{not json", "not readable as JSON"),
+    ('["a", "list"]', "not a JSON object"),
+    ('{"name": "another program", "steps": []}', "no 'title' text"),
+    ('{"title": "t", "version": "1", "status": "finished", "steps": [{"step": 3}], "fractures": []}',
+     "steps[0] is not step 0"),
+    ('{"title": "t", "version": "1", "status": "finished", "steps": [{"step": 0, "load_factor": 1.0}],'
+     ' "fractures": []}', "lacks 'load_factor', 'dofs' or 'tips'"),
+])
+def test_plot_a_summary_that_is_not_ours_exits_2(tmp_path, capsys, text, reason):
+    (tmp_path / "summary.json").write_text(text)
+    assert cli.main(["plot", str(tmp_path)]) == 2
+    line = one_error_line(capsys)
+    assert line.startswith(f"wingcrack: error: {tmp_path / 'summary.json'}: not a wingcrack summary (")
+    assert reason in line
+
+
+def test_plot_with_a_step_file_missing_exits_2(run, tmp_path, capsys):
+    out = tmp_path / "copy"
+    shutil.copytree(run[0], out)
+    (out / "step_0002.vtu").unlink()
+    assert cli.main(["plot", str(out)]) == 2
+    assert one_error_line(capsys) == f"wingcrack: error: {out / 'step_0002.vtu'}: missing (summary.json lists 4 steps)"
+
+
+def test_plot_a_broken_step_file_exits_2(run, tmp_path, capsys):
+    out = tmp_path / "copy"
+    shutil.copytree(run[0], out)
+    (out / "step_0001.vtu").write_text("<VTKFile")
+    assert cli.main(["plot", str(out)]) == 2
+    assert one_error_line(capsys) == f"wingcrack: error: {out / 'step_0001.vtu'}: cannot read it as VTU"
+
+
+def test_plot_a_file_exits_2(run, capsys):
+    assert cli.main(["plot", str(run[0] / "summary.json")]) == 2
+    assert one_error_line(capsys).endswith("summary.json: is a file, not a result folder")
+
+
+# ---------------------------------------------------------------- progress
+
+
+STEP = {"step": 3, "load_factor": 1.2345678, "dofs": 7042, "contact": {"pairs": 44, "closed": 37},
+        "seconds": {"mesh": 0.31, "factorize": 0.12, "solve": 0.05, "total": 0.6}}
+
+
+def test_progress_shows_load_dofs_closed_pairs_and_the_slowest_phase():
+    assert cli.progress_text(STEP) == "load 1.235, 7042 DOFs, 37 closed pairs, slowest mesh 0.31 s"
+
+
+class _Terminal:
+    """A stderr that says it is a terminal, so that tqdm draws."""
+
+    def __init__(self):
+        self.text = []
+
+    def write(self, s):
+        self.text.append(s)
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return True
+
+
+def test_progress_bar_on_a_terminal_and_none_with_quiet(monkeypatch):
+    from wingcrack.case import Case
+
+    term = _Terminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    case = Case.from_toml(ROOT_CASE)
+    with cli._progress(case, quiet=True) as progress:
+        assert progress is None
+    assert term.text == []
+    with cli._progress(case, quiet=False) as progress:
+        progress(0, STEP)
+    shown = "".join(term.text)
+    assert "1/34" in shown and cli.progress_text(STEP) in shown
+
+
+ROOT_CASE = Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml"

@@ -1,0 +1,225 @@
+"""A result folder: which files a wingcrack result holds, getting a folder
+ready for a new result, and reading a result back.
+
+`wingcrack run` writes summary.json, step_XXXX.vtu and faces_XXXX.vtu (one
+of each per step), fields.pvd and faces.pvd (their ParaView indices),
+fractures.png and, unless --no-plots, history.png and growth.gif
+(growth.mp4 when ffmpeg is on PATH). `wingcrack sif` writes summary.json,
+fields.vtu, faces.vtu and fractures.png.
+
+A new result never replaces a previous one unless forced. Without force, a
+folder holding any of these files is refused; with force, exactly these
+files are deleted first (nothing else in the folder is touched), so no step
+file of a longer earlier run is left next to the new ones.
+"""
+from __future__ import annotations
+
+import json
+import math
+import re
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FolderError
+
+SUMMARY = "summary.json"
+FIELDS_PVD, FACES_PVD = "fields.pvd", "faces.pvd"
+SIF_FIELDS, SIF_FACES = "fields.vtu", "faces.vtu"
+PICTURES = ("fractures.png", "history.png", "growth.gif", "growth.mp4")
+_NAMES = frozenset((SUMMARY, FIELDS_PVD, FACES_PVD, SIF_FIELDS, SIF_FACES, *PICTURES))
+_STEP_FILE = re.compile(r"(step|faces)_\d{4,}\.vtu")
+
+
+def fields_name(step: int) -> str:
+    """The field file of a run's step (displacement, stress, von Mises)."""
+    return f"step_{step:04d}.vtu"
+
+
+def faces_name(step: int) -> str:
+    """The fracture-face file of a run's step (opening, slip, contact)."""
+    return f"faces_{step:04d}.vtu"
+
+
+def result_files(folder) -> list[Path]:
+    """The files of a wingcrack result that `folder` holds (sorted)."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    return sorted(p for p in folder.iterdir() if p.name in _NAMES or _STEP_FILE.fullmatch(p.name))
+
+
+def _names(files) -> str:
+    steps = [p for p in files if _STEP_FILE.fullmatch(p.name)]
+    named = [p.name for p in files if p not in steps]
+    return ", ".join(named + ([f"{len(steps)} step files"] if steps else []))
+
+
+def prepare(out, force: bool = False) -> Path:
+    """Make `out` ready for a new result and return it as a Path.
+
+    Raises FolderError when `out` is a file, cannot be created or written,
+    or holds a previous result and `force` is false. With `force`, the
+    previous result's files are deleted."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise FolderError(out, "is a file, not a folder")
+    previous = result_files(out)
+    if previous and not force:
+        raise FolderError(out, f"holds a previous result ({_names(previous)}); use --force to replace it")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise FolderError(out, f"cannot create the folder ({err.strerror or err})") from None
+    check_writable(out)
+    try:
+        for p in previous:
+            p.unlink()
+    except OSError as err:
+        raise FolderError(out, f"cannot replace the previous result ({err.strerror or err})") from None
+    return out
+
+
+def check_writable(folder) -> Path:
+    """`folder` as a Path if a file can be created in it, else FolderError."""
+    folder = Path(folder)
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as err:
+        raise FolderError(folder, f"cannot write into the folder ({err.strerror or err})") from None
+    return folder
+
+
+@dataclass
+class StoredResult:
+    """A result read back from its folder: the summary (as in summary.json)
+    and, per step, the field file and the fracture-face file."""
+    folder: Path
+    summary: dict
+    fields: list
+    faces: list
+
+    @property
+    def steps(self) -> list:
+        return self.summary["steps"]
+
+    def fields_of(self, k: int) -> "StepFields":
+        """The mesh and von Mises stress of step k (from its field file)."""
+        mesh = _read(self.fields[k])
+        tri6 = _cells(mesh, "triangle6", self.fields[k])
+        if "von_mises" not in mesh.point_data:
+            raise FolderError(self.fields[k], "not a wingcrack field file (no von_mises)")
+        return StepFields(np.asarray(mesh.points)[:, :2], tri6, np.asarray(mesh.point_data["von_mises"], float))
+
+    def faces_of(self, k: int) -> "StepFaces":
+        """The fracture faces of step k (from its face file)."""
+        mesh = _read(self.faces[k])
+        line3 = _cells(mesh, "line3", self.faces[k])
+        x = np.asarray(mesh.points)[:, :2]
+        closed = np.asarray(mesh.point_data.get("closed", np.zeros(len(x))), float) > 0.5
+        # line3 nodes are [a, b, mid]: draw a -> mid -> b
+        return StepFaces(x[line3[:, [0, 2, 1]]], closed[line3[:, 0]] & closed[line3[:, 1]])
+
+
+@dataclass
+class StepFields:
+    """x (n, 2) nodes; cells (m, 6) P2 triangles (vertices first);
+    von_mises (n,) in Pa."""
+    x: np.ndarray
+    cells: np.ndarray
+    von_mises: np.ndarray
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """The vertex triangles (m, 3), straight-sided, for drawing."""
+        return self.cells[:, :3]
+
+
+@dataclass
+class StepFaces:
+    """lines (k, 3, 2): each face edge (+ side) as a 3-point polyline;
+    closed (k,): both end nodes in contact."""
+    lines: np.ndarray
+    closed: np.ndarray
+
+
+def _read(path):
+    # meshio.vtu.read, not meshio.read: the latter prints and exits on a broken file
+    from meshio import vtu
+
+    try:
+        return vtu.read(str(path))
+    except Exception as err:  # noqa: BLE001 - meshio raises anything on a broken file
+        detail = " ".join(str(err).split())
+        raise FolderError(path, "cannot read it as VTU" + (f" ({detail})" if detail else "")) from None
+
+
+def _cells(mesh, kind, path) -> np.ndarray:
+    blocks = [np.asarray(c.data) for c in mesh.cells if c.type == kind]
+    if not blocks:
+        raise FolderError(path, f"not a wingcrack step file (no {kind} cells)")
+    return np.vstack(blocks)
+
+
+def read_result(folder) -> StoredResult:
+    """Read summary.json of a run (finished, stopped or failed) or of a
+    solve, and find its step files. Raises FolderError when `folder` is
+    missing, is not a wingcrack result, or lacks a step file that
+    summary.json lists."""
+    folder = Path(folder)
+    if not folder.exists():
+        raise FolderError(folder, "no such folder")
+    if not folder.is_dir():
+        raise FolderError(folder, "is a file, not a result folder")
+    path = folder / SUMMARY
+    if not path.is_file():
+        raise FolderError(folder, f"not a wingcrack result (no {SUMMARY})")
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as err:
+        raise FolderError(path, f"not a wingcrack summary (not readable as JSON: {err})") from None
+    problem = _summary_problem(summary)
+    if problem:
+        raise FolderError(path, f"not a wingcrack summary ({problem})")
+    steps = summary["steps"]
+    fields = [folder / fields_name(s["step"]) for s in steps]
+    faces = [folder / faces_name(s["step"]) for s in steps]
+    if len(steps) == 1 and not fields[0].exists() and (folder / SIF_FIELDS).exists():
+        fields, faces = [folder / SIF_FIELDS], [folder / SIF_FACES]   # a `sif` result
+    missing = [p for p in fields + faces if not p.is_file()]
+    if missing:
+        raise FolderError(missing[0], f"missing ({SUMMARY} lists {len(steps)} steps)")
+    return StoredResult(folder, summary, fields, faces)
+
+
+def _number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _summary_problem(s) -> str | None:
+    """What makes `s` not a summary of the case contract (None if it is one)."""
+    if not isinstance(s, dict):
+        return "not a JSON object"
+    for key in ("title", "version", "status"):
+        if not isinstance(s.get(key), str):
+            return f"no '{key}' text"
+    if not isinstance(s.get("steps"), list):
+        return "no 'steps' list"
+    if not isinstance(s.get("fractures"), list):
+        return "no 'fractures' list"
+    for f in s["fractures"]:
+        if not (isinstance(f, dict) and isinstance(f.get("points"), list) and isinstance(f.get("origin"), str)):
+            return "a fracture without 'points' and 'origin'"
+    for k, st in enumerate(s["steps"]):
+        if not isinstance(st, dict) or st.get("step") != k:
+            return f"steps[{k}] is not step {k}"
+        if not (_number(st.get("load_factor")) and isinstance(st.get("dofs"), int)
+                and isinstance(st.get("tips"), list)):
+            return f"steps[{k}] lacks 'load_factor', 'dofs' or 'tips'"
+        for t in st["tips"]:
+            if not (isinstance(t, dict) and all(_number(t.get(q)) for q in ("fracture", "end", "x", "y", "KI", "KII", "theta"))):
+                return f"steps[{k}]: a tip without 'fracture', 'end', 'x', 'y', 'KI', 'KII' and 'theta'"
+    return None
