@@ -20,7 +20,7 @@ STAMP := $(VENV)/.wingcrack-installed
 # Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
 KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
-.PHONY: setup apt venv demo test test-cpp test-cpp-sanitize test-py bench clean
+.PHONY: setup apt venv demo test test-cpp test-cpp-sanitize test-py bench soak clean
 
 setup: apt $(STAMP) $(KERNELSPEC)
 
@@ -68,6 +68,9 @@ test-cpp-sanitize: apt
 
 test-py: setup
 	$(PY) -m pytest -q
+
+soak: setup   # 200 random fracture networks, 10 steps each (make test runs 20)
+	WINGCRACK_SOAK_SEEDS=200 $(PY) -m pytest -q tests/test_random_networks.py
 
 bench: setup
 	$(PY) benchmarks/run.py
