@@ -42,6 +42,10 @@ def strain(u):
     return ufl.sym(ufl.grad(u))
 
 
+#: MUMPS CNTL(3): pivots below this times ||K|| count as null (see factorize)
+NULL_PIVOT = 1e-12
+
+
 class ElasticProblem:
     """Assemble once per mesh, factorise once, solve for any load factor."""
 
@@ -149,7 +153,27 @@ class ElasticProblem:
             pc.setFactorSetUpSolverType()
             schur.set_schur_dofs(pc.getFactorMatrix(), schur_dofs)
             self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)
-        self.solver.setUp()
+        pc = self.solver.getPC()
+        pc.setFactorSetUpSolverType()
+        # Null-pivot detection (a free piece of the body): a pivot below 1e-12 ||K|| is null.
+        # A well-posed mesh's smallest pivot is >= lambda_min(K) ~ ||K|| (h_min / L)^2, above
+        # 1e-10 ||K|| for L / h_min up to 1e5; round-off pivots of a free piece are ~1e-16 ||K||.
+        F = pc.getFactorMatrix()
+        F.setMumpsIcntl(24, 1)
+        F.setMumpsCntl(3, NULL_PIVOT)
+        try:
+            self.solver.setUp()
+            # INFOG(28): null pivots; INFOG(12): negative pivots, which an SPD K never has
+            null_pivots = F.getMumpsInfog(28) + F.getMumpsInfog(12)
+        except PETSc.Error as err:
+            from ..errors import ComputationError
+            raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "
+                                   "singular or not positive definite; a fracture may cut off a piece of the body "
+                                   "that no boundary condition holds") from None
+        if null_pivots > 0:
+            from ..errors import ComputationError
+            raise ComputationError(f"the stiffness matrix is singular ({null_pivots} null or negative pivots): a fracture cuts off "
+                                   "a piece of the body that no boundary condition holds")
         self._factored = True
 
     def destroy(self) -> None:

@@ -18,6 +18,10 @@ from petsc4py import PETSc
 from scipy import linalg, sparse
 
 
+_SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
+             "boundary condition holds")
+
+
 class PairOperator:
     def __init__(self, problem, rows):
         self.problem = problem
@@ -61,7 +65,12 @@ class PairOperator:
             Sc = problem.schur_complement()
             BP = self.B_free[P].toarray()
             # Sc is SPD: S = W^T W with W = L^-1 B_P, Sc = L L^T (symmetric by construction)
-            W = linalg.solve_triangular(linalg.cholesky(Sc, lower=True), BP, lower=True)
+            try:
+                L = linalg.cholesky(Sc, lower=True)
+            except np.linalg.LinAlgError:
+                from ..errors import ComputationError
+                raise ComputationError(_SINGULAR) from None
+            W = linalg.solve_triangular(L, BP, lower=True)
             self.S = W.T @ W
             return
 

@@ -94,6 +94,9 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     for k in range(prop.steps):
         timer = _Timer()
         try:
+            if not fset.active_tips():
+                status = "stopped: no tip can grow (every tip joined, at the boundary or not growing)"
+                break
             _release(last[1])   # the previous step's factors and forms
             last = (None, None, None)
             cm, problem, contact = build(case, fset.fractures, timer,
@@ -174,7 +177,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             status = f"failed: step {k}: {err}"
             write(status)
             raise ComputationError(status) from None
-        except (RuntimeError, ValueError) as err:
+        except (RuntimeError, ValueError, np.linalg.LinAlgError) as err:
             status = f"failed: step {k}: {' '.join(str(err).split())}"
             write(status)
             raise ComputationError(status) from None
