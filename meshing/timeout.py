@@ -30,6 +30,7 @@ def run_with_timeout(fn: Callable[[], object], timeout: float | None):
     if pid == 0:  # child: never return into the caller's stack
         status = 0
         try:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)   # Ctrl-C is the parent's to handle
             os.close(read_fd)
             try:
                 payload = pickle.dumps(("ok", fn()), protocol=pickle.HIGHEST_PROTOCOL)
@@ -43,11 +44,11 @@ def run_with_timeout(fn: Callable[[], object], timeout: float | None):
             os._exit(status)
     os.close(write_fd)
     chunks, deadline = [], time.monotonic() + timeout
+    done = False
     try:
         while True:
             left = deadline - time.monotonic()
             if left <= 0:
-                os.kill(pid, signal.SIGKILL)
                 raise MeshTimeout(f"gmsh did not finish within {timeout:g} s")
             ready, _, _ = select.select([read_fd], [], [], min(left, 1.0))
             if ready:
@@ -55,8 +56,14 @@ def run_with_timeout(fn: Callable[[], object], timeout: float | None):
                 if not chunk:
                     break
                 chunks.append(chunk)
+        done = True
     finally:
         os.close(read_fd)
+        if not done:   # timeout, Ctrl-C or any error here: the child must not outlive us
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
         os.waitpid(pid, 0)
     if not chunks:
         raise RuntimeError("the meshing process died without a result")

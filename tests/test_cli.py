@@ -214,9 +214,11 @@ def test_sif_and_run_call_the_api(fake_api, tmp_path, command, capsys):
 def test_force_and_no_plots_reach_the_api(fake_api, tmp_path):
     out = str(tmp_path / "out")
     assert cli.main(["run", str(CASES[0]), "-o", out, "--quiet"]) == 0
-    assert fake_api.options == {"plots": True, "force": False}
+    assert fake_api.options == {"plots": True, "force": False, "resume": False}
     assert cli.main(["run", str(CASES[0]), "-o", out, "--quiet", "--no-plots", "--force"]) == 0
-    assert fake_api.options == {"plots": False, "force": True}
+    assert fake_api.options == {"plots": False, "force": True, "resume": False}
+    assert cli.main(["run", str(CASES[0]), "-o", out, "--quiet", "--resume"]) == 0
+    assert fake_api.options == {"plots": True, "force": False, "resume": True}
     assert cli.main(["sif", str(CASES[0]), "-o", out, "--quiet", "--force"]) == 0
     assert fake_api.options == {"force": True}
 

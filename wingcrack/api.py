@@ -233,24 +233,46 @@ def sif(case, out=None, quiet: bool = True, status: str = "finished", force: boo
                      contact=sol.contact)
 
 
-def run(case, out=None, quiet: bool = True, progress=None, plots: bool = True, force: bool = False):
+def run(case, out=None, quiet: bool = True, progress=None, plots: bool = True, force: bool = False,
+        resume: bool = False):
     """Grow the case's wing cracks (see wingcrack.propagation.loop.run).
 
     With `out`: the folder must not hold a previous result unless `force`
     (FolderError; see io.outdir). Writes summary.json, the step files and
     their ParaView indices, and fractures.png at the end; with `plots` also
     history.png and the growth animation. A failed run draws the same
-    pictures of its finished steps before raising ComputationError."""
+    pictures of its finished steps before raising ComputationError.
+
+    With `resume`, continue the run whose checkpoint `out` holds (stopped,
+    killed or interrupted) from its last finished step, to the case's
+    propagation.steps; FolderError when there is no checkpoint of this case.
+    Ctrl-C stops with status "stopped: interrupted" and re-raises
+    KeyboardInterrupt; every finished step is kept."""
     from mpi4py import MPI
 
     from .errors import ComputationError
     from .propagation.loop import run as _run
 
-    if out is not None:
+    if resume:
+        from .errors import FolderError
+        from .io.outdir import check_writable
+        from .propagation import checkpoint
+
+        if out is None:
+            raise FolderError(Path("."), "--resume needs the output folder of the run (-o)")
+        if not Path(out).is_dir():
+            raise FolderError(Path(out), "does not exist: nothing to resume")
+        check_writable(out)
+        try:
+            checkpoint.load(out, case)
+        except ValueError as err:
+            raise FolderError(Path(out), str(err)) from None
+        out = Path(out)
+    elif out is not None:
         out = _prepare_out(out, force)
     draw = out is not None and MPI.COMM_WORLD.rank == 0
     try:
-        result = _run(case, out, quiet=quiet, progress=progress)
+        result = _run(case, out, quiet=quiet, progress=progress, resume=resume)
     except ComputationError as err:
         if draw:
             try:

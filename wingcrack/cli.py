@@ -48,6 +48,8 @@ def _parser() -> argparse.ArgumentParser:
         if name == "run":
             c.add_argument("--no-plots", dest="plots", action="store_false",
                            help="skip history.png and the growth animation (fractures.png is always drawn)")
+            c.add_argument("--resume", action="store_true",
+                           help="continue the run in OUTDIR from its last finished step (after a kill or Ctrl-C)")
     pl = sub.add_parser("plot", parents=[common],
                         help="draw fractures.png, history.png and growth.gif of a result folder")
     pl.add_argument("folder", type=Path, metavar="OUTDIR", help="a folder written by `wingcrack run` or `sif`")
@@ -92,7 +94,8 @@ def main(argv: list[str] | None = None) -> int:
 
         if args.command == "run":
             with _progress(case, args.quiet) as progress:
-                result = api.run(case, args.out, args.quiet, progress=progress, plots=args.plots, force=args.force)
+                result = api.run(case, args.out, args.quiet, progress=progress, plots=args.plots, force=args.force,
+                                 resume=args.resume)
         else:
             result = api.sif(case, args.out, args.quiet, force=args.force)
         if result is not None:  # where the results are, even with --quiet

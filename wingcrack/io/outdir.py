@@ -29,7 +29,8 @@ SUMMARY = "summary.json"
 FIELDS_PVD, FACES_PVD = "fields.pvd", "faces.pvd"
 SIF_FIELDS, SIF_FACES = "fields.vtu", "faces.vtu"
 PICTURES = ("fractures.png", "history.png", "growth.gif", "growth.mp4")
-_NAMES = frozenset((SUMMARY, FIELDS_PVD, FACES_PVD, SIF_FIELDS, SIF_FACES, *PICTURES))
+CHECKPOINT = "checkpoint.npz"   # propagation/checkpoint.py: what `run --resume` needs
+_NAMES = frozenset((SUMMARY, FIELDS_PVD, FACES_PVD, SIF_FIELDS, SIF_FACES, CHECKPOINT, *PICTURES))
 _STEP_FILE = re.compile(r"(step|faces)_\d{4,}\.vtu")
 
 

@@ -21,6 +21,7 @@ from ..errors import ComputationError
 from .critical_load import critical_load_factor
 from .fracture_set import FractureSet
 from .growth_law import STRAIGHT, advances
+from . import checkpoint
 from .joining import place_tip
 from ..adaptivity import next_sizes
 
@@ -62,9 +63,13 @@ def _grow_index(cm, fset):
     return [i for i, t in enumerate(cm.tips) if (int(t.fracture), int(t.end)) in active]
 
 
-def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float | None = 120.0) -> RunResult:
+def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float | None = 120.0,
+        resume: bool = False) -> RunResult:
     """Grow the case's fractures; see the module doc. `progress(step, info)`
-    is called after every step (the CLI's progress bar)."""
+    is called after every step (the CLI's progress bar). With `resume`, go
+    on from the checkpoint in `out` (see checkpoint.py). Ctrl-C (SIGINT)
+    stops at once with status "stopped: interrupted", every finished step
+    kept, and raises KeyboardInterrupt again."""
     from mpi4py import MPI
 
     from ..api import _Timer, _step, _summary, all_sifs, build, contact_summary
@@ -72,6 +77,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
 
     comm = MPI.COMM_WORLD
     out = None if out is None else Path(out)   # made ready by api.run
+    _python_handles_ctrl_c()
     fset = FractureSet.from_case(case)
     mat, prop = case.material, case.propagation
     Eprime = mat.E if mat.plane == "stress" else mat.E / (1 - mat.nu ** 2)
@@ -80,18 +86,27 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     steps, status = [], "finished"
     last = (None, None, None)
     sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
+    first = 0
+    if resume:
+        if out is None:
+            raise ValueError("resume needs the output folder of the run")
+        ck = checkpoint.load(out, case)
+        fset, lam, steps, sizes, first = ck["fset"], ck["load_factor"], ck["steps"], ck["sizes"], ck["step"] + 1
+
+    done = {"fset": fset.copy()}   # the fractures after the last finished step
 
     def summary_now(st):
         s = _summary(case, st, steps)
         s["fractures"] = [{"points": np.asarray(p, float).tolist(), "origin": o, "fracture": i}
-                          for i, f in enumerate(fset.fractures) for p, o in f.pieces()]
+                          for i, f in enumerate(done["fset"].fractures) for p, o in f.pieces()]
         return s
 
     def write(st):
         if out is not None and comm.rank == 0:
             write_summary(out / "summary.json", summary_now(st))
 
-    for k in range(prop.steps):
+    k = first
+    for k in range(first, prop.steps):
         timer = _Timer()
         try:
             if not fset.active_tips():
@@ -170,9 +185,16 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 timer.lap("output")
                 step["seconds"]["output"] = round(timer.seconds["output"], 6)
             step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
+            done["fset"] = fset.copy()
             write("running" if k < prop.steps - 1 else status)
+            if out is not None and comm.rank == 0:
+                checkpoint.save(out, case, k, fset, lam, steps, sizes)
             if progress is not None:
                 progress(k, step)
+        except KeyboardInterrupt:
+            status = "stopped: interrupted"
+            write(status)
+            raise
         except ComputationError as err:
             status = f"failed: step {k}: {err}"
             write(status)
@@ -186,6 +208,19 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     if out is not None:
         result.files = _files(out, len(steps))
     return result
+
+
+def _python_handles_ctrl_c():
+    """`import gmsh` sets SIGINT to its default (the process just dies); give
+    it back to Python so that Ctrl-C raises KeyboardInterrupt and the run
+    stops cleanly."""
+    import signal
+    import threading
+
+    import gmsh  # noqa: F401 - its import is what resets SIGINT: have it done first
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def _release(problem):

@@ -1,0 +1,139 @@
+"""Issue 7.5: checkpoint and resume, Ctrl-C.
+
+Reference: the uninterrupted run of the same case. A run killed with SIGKILL
+mid-run and resumed with --resume must end with the same fracture geometry
+(tip positions within 1e-9 of the domain size: the resumed run meshes from
+the same saved size field, and gmsh and MUMPS are deterministic, so the
+paths agree to round-off), and summary.json must parse at any moment of the
+kill (atomic writes). SIGINT stops at once with "stopped: interrupted",
+exit 130, every finished step kept.
+"""
+import json
+import random
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from builders import square_plate_with_cracks
+from networks import to_toml
+
+WINGCRACK = Path(sys.executable).with_name("wingcrack")
+L = 4.0
+STEPS = 6
+
+
+def write_case(path, steps=STEPS, title="plate"):
+    d = square_plate_with_cracks(L, [[[-1.0, -0.3], [-0.4, 0.1]], [[0.3, 0.5], [1.0, 0.4]]], (0.0, 0.0, 0.0),
+                                 size=0.5, tip_size=0.05)
+    d["title"] = title
+    d["bc"] += [{"on": "top", "traction": [0.0, 1e5]}, {"on": "bottom", "traction": [0.0, -1e5]}]
+    d["propagation"] = {"steps": steps, "length": 0.1}
+    path.write_text(to_toml(d))
+    return path
+
+
+def start(case, out, *extra):
+    return subprocess.Popen([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots", *extra],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def finished_steps(out) -> int:
+    """Steps recorded in summary.json now; it must always parse (atomic)."""
+    p = out / "summary.json"
+    if not p.exists():
+        return 0
+    return len(json.loads(p.read_text())["steps"])
+
+
+def wait_for_steps(proc, out, n, limit=120.0):
+    t0 = time.perf_counter()
+    while finished_steps(out) < n:
+        assert proc.poll() is None, "the run ended before it could be interrupted"
+        assert time.perf_counter() - t0 < limit
+        time.sleep(0.05)
+
+
+def tips_of(out):
+    s = json.loads((out / "summary.json").read_text())
+    return s, np.array([[t["x"], t["y"]] for t in s["steps"][-1]["tips"]]), \
+        [np.asarray(f["points"]) for f in s["fractures"]]
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("ref")
+    case = write_case(tmp / "case.toml")
+    proc = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp / "out"), "--quiet", "--no-plots"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    return tips_of(tmp / "out")
+
+
+def same_geometry(a, b):
+    sa, ta, fa = a
+    sb, tb, fb = b
+    assert sb["status"] == sa["status"] == "finished"
+    assert len(sb["steps"]) == len(sa["steps"]) == STEPS
+    assert np.abs(ta - tb).max() <= 1e-9 * L
+    assert len(fa) == len(fb) and all(np.abs(p - q).max() <= 1e-9 * L for p, q in zip(fa, fb))
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_killed_run_resumes_to_the_same_geometry(tmp_path, reference, seed):
+    case = write_case(tmp_path / "case.toml")
+    out = tmp_path / "out"
+    proc = start(case, out)
+    wait_for_steps(proc, out, 1)
+    time.sleep(random.Random(seed).uniform(0.0, 1.5))   # a random moment of a later step
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    kept = finished_steps(out)
+    assert 1 <= kept < STEPS
+    resumed = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots", "--resume"],
+                             capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    same_geometry(reference, tips_of(out))
+
+
+def test_ctrl_c_stops_cleanly_and_resumes(tmp_path):
+    """SIGINT in the middle of a long run: exit 130, "stopped: interrupted",
+    the finished steps kept; --resume (here asked for one step more, which
+    a case may change: propagation.steps is not part of its fingerprint)
+    continues from them."""
+    case = write_case(tmp_path / "case.toml", steps=60)
+    out = tmp_path / "out"
+    proc = start(case, out)
+    wait_for_steps(proc, out, 2)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and err.strip().endswith("interrupted")
+    s = json.loads((out / "summary.json").read_text())
+    kept = len(s["steps"])
+    assert s["status"] == "stopped: interrupted" and 2 <= kept < 60
+    write_case(case, steps=kept + 1)
+    resumed = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots", "--resume"],
+                             capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    r = json.loads((out / "summary.json").read_text())
+    assert r["status"] == "finished" and len(r["steps"]) == kept + 1
+    assert r["steps"][:kept] == s["steps"]
+
+
+def test_resume_refuses_what_it_cannot_continue(tmp_path):
+    case = write_case(tmp_path / "case.toml", steps=2)
+    nothing = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "none"), "--resume"],
+                             capture_output=True, text=True)
+    assert nothing.returncode == 2 and "nothing to resume" in nothing.stderr
+    assert subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "out"), "--quiet", "--no-plots"],
+                          capture_output=True).returncode == 0
+    other = write_case(tmp_path / "other.toml", steps=2, title="another plate")
+    wrong = subprocess.run([str(WINGCRACK), "run", str(other), "-o", str(tmp_path / "out"), "--resume"],
+                           capture_output=True, text=True)
+    assert wrong.returncode == 2 and "another case" in wrong.stderr
+    assert len(wrong.stderr.strip().splitlines()) == 1

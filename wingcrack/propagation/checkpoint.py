@@ -1,0 +1,90 @@
+"""Checkpoint of a propagation run after every finished step, for
+`wingcrack run --resume`.
+
+OUT/checkpoint.npz holds what the next step needs and nothing it can
+recompute: the fracture set (polylines, pre-existing range, end states,
+faces), the load factor, the finished steps' records, and the error-estimate
+size field of the next mesh (so that a resumed run meshes exactly as an
+uninterrupted one). It is written atomically (temporary file, fsync,
+rename): a kill leaves the previous checkpoint or the new one, never half of
+one. A fingerprint of the case (everything but propagation.steps, so a run
+may also be resumed with more steps) guards against resuming another case.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .fracture_set import FractureSet, GrowingFracture
+
+NAME = "checkpoint.npz"
+VERSION = 1
+
+
+def fingerprint(case) -> str:
+    """sha256 of the case without propagation.steps."""
+    d = dataclasses.asdict(dataclasses.replace(case, propagation=dataclasses.replace(case.propagation, steps=0)))
+    text = json.dumps(d, sort_keys=True, default=_plain)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _plain(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating, np.integer)):
+        return obj.item()
+    if hasattr(obj, "__dict__"):
+        return {k: v for k, v in vars(obj).items() if not k.startswith("_")}
+    return repr(obj)
+
+
+def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes) -> None:
+    meta = {
+        "version": VERSION, "case": fingerprint(case), "step": k, "load_factor": lam, "steps": steps,
+        "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
+                       "slip_profile": f.slip_profile, "grow": f.grow} for f in fset.fractures],
+    }
+    arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
+    if sizes is not None:
+        arrays["size_triangles"], arrays["size_values"] = sizes
+    out = Path(out)
+    fd, tmp = tempfile.mkstemp(prefix=".checkpoint.", suffix=".npz", dir=out)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, meta=np.array(json.dumps(meta, default=_plain)), **arrays)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, out / NAME)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def load(out, case) -> dict:
+    """{'step', 'load_factor', 'steps', 'fset', 'sizes'} of the checkpoint in
+    `out`; ValueError with the reason when there is none or it belongs to
+    another case."""
+    path = Path(out) / NAME
+    if not path.is_file():
+        raise ValueError(f"{path} does not exist: nothing to resume (was the run started with this -o?)")
+    try:
+        with np.load(path) as data:
+            meta = json.loads(str(data["meta"]))
+            points = [np.array(data[f"points_{i}"]) for i in range(len(meta["fractures"]))]
+            sizes = (np.array(data["size_triangles"]), np.array(data["size_values"])) \
+                if "size_triangles" in data else None
+    except (OSError, KeyError, ValueError) as err:
+        raise ValueError(f"{path} cannot be read ({err})") from None
+    if meta.get("version") != VERSION or meta.get("case") != fingerprint(case):
+        raise ValueError(f"{path} was written for another case (or another wingcrack version)")
+    fractures = [GrowingFracture(p, tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"], m["slip"],
+                                 m["slip_profile"], m["grow"]) for p, m in zip(points, meta["fractures"])]
+    return {"step": meta["step"], "load_factor": meta["load_factor"], "steps": meta["steps"],
+            "fset": FractureSet(fractures), "sizes": sizes}
