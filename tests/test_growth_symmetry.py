@@ -6,7 +6,7 @@ two tips see slightly different discretisations. The displacement
 correlation's KII carries ~0.1 % of KI of mesh noise (its accuracy limit on
 a 32-sector rosette), which turns each kink by ~0.1 degree (theta ~ -2
 KII/KI) and moves the next tip sideways by ~2e-3 of the step. Measured
-mirror errors over 10 steps of 0.5 mm: 2.1e-3 (open) and 1.3e-3 (contact)
+mirror errors over 10 steps of 0.5 mm: 2.2e-3 (open) and 1.4e-3 (contact)
 of the step; 64 sectors or a second structured ring did not reduce them
 (noise from the unstructured mesh beyond the rosette).
 
@@ -24,7 +24,7 @@ from wingcrack.api import run
 from wingcrack.case import Case
 
 TARGET = 1e-3        # the bound, in step lengths (not met: see above)
-MIRROR_BOUND = 3e-3  # regression guard: measured 2.1e-3 / 1.3e-3
+MIRROR_BOUND = 3e-3  # regression guard: measured 2.2e-3 / 1.4e-3
 CASES = Path(__file__).resolve().parent.parent / "cases"
 
 
