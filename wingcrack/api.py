@@ -13,15 +13,18 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from .results import LastSolve, dataframe, tip_rows
 
 
 @dataclass
-class SifResult:
+class SifResult(LastSolve):
     """One static solve of the initial geometry.
 
     tips: list of TipSIF (KI, KII by displacement correlation; KI_M, KII_M by
     the interaction integral; G; theta (MTS kink angle, rad); K_eq), in the tip
     frames of the case contract. summary: the dict written to summary.json.
+    .to_dataframe() (one row per tip; needs pandas), .dolfinx_mesh and
+    .displacement (the DOLFINx solve).
     """
     tips: list
     summary: dict
@@ -33,6 +36,10 @@ class SifResult:
     out: Path | None = None
     files: dict = field(default_factory=dict)
     contact: object = None       # fem.contact_problem.ContactProblem
+
+    def to_dataframe(self):
+        """One row per tip (pandas; tip_rows(self.summary['steps']) gives plain dicts)."""
+        return dataframe(tip_rows(self.summary.get("steps", [])))
 
 
 class _Timer:
@@ -235,7 +242,14 @@ def sif(case, out=None, quiet: bool = True, status: str = "finished", force: boo
 
 def run(case, out=None, quiet: bool = True, progress=None, plots: bool = True, force: bool = False,
         resume: bool = False):
-    """Grow the case's wing cracks (see wingcrack.propagation.loop.run).
+    """Grow the case's wing cracks (see wingcrack.propagation.loop.run) and
+    return a RunResult: .status, .steps (summary.json's step records), .tips
+    (the last step's), .polylines, .to_dataframe() (one row per step and
+    tip; needs pandas), and the last step's .dolfinx_mesh and .displacement.
+
+    progress: True shows a progress bar (load factor, DOFs, closed pairs,
+    slowest phase), False/None nothing, or a callable progress(k, step)
+    called after every step.
 
     With `out`: the folder must not hold a previous result unless `force`
     (FolderError; see io.outdir). Writes summary.json, the step files and
@@ -272,7 +286,13 @@ def run(case, out=None, quiet: bool = True, progress=None, plots: bool = True, f
         out = _prepare_out(out, force)
     draw = out is not None and MPI.COMM_WORLD.rank == 0
     try:
-        result = _run(case, out, quiet=quiet, progress=progress, resume=resume)
+        if progress is True or progress is False or progress is None:
+            from .progress import ProgressBar
+
+            with ProgressBar(case.propagation.steps, show=bool(progress)) as bar:
+                result = _run(case, out, quiet=quiet, progress=bar, resume=resume)
+        else:
+            result = _run(case, out, quiet=quiet, progress=progress, resume=resume)
     except ComputationError as err:
         if draw:
             try:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from wingcrack import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
+from wingcrack.progress import ProgressBar, progress_text  # noqa: F401 - progress_text: tests
 
 PROG = "wingcrack"
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
@@ -173,40 +174,11 @@ def crosscheck_text(r: dict) -> str:
     return "\n".join(lines)
 
 
-class _progress:
-    """A tqdm bar over the propagation steps (load factor, DOFs, closed
-    pairs, slowest phase), on stderr; nothing with --quiet."""
+class _progress(ProgressBar):
+    """The CLI's bar: on stderr when it is a terminal; nothing with --quiet."""
 
     def __init__(self, case, quiet: bool):
-        self.total = case.propagation.steps
-        self.quiet = quiet
-        self.bar = None
-
-    def __enter__(self):
-        if not self.quiet:
-            from tqdm import tqdm
-
-            # disable=None: no bar when stderr is not a terminal (logs, CI)
-            self.bar = tqdm(total=self.total, unit="step", file=sys.stderr, dynamic_ncols=True, disable=None)
-        return self if self.bar is not None else None
-
-    def __call__(self, k, step):
-        self.bar.set_postfix_str(progress_text(step), refresh=False)
-        self.bar.update(1)
-
-    def __exit__(self, *exc):
-        if self.bar is not None:
-            self.bar.close()
-        return False
-
-
-def progress_text(step: dict) -> str:
-    """The bar's words for a finished step (a summary.json step)."""
-    secs = {p: v for p, v in step.get("seconds", {}).items() if p != "total"}
-    slow = max(secs, key=secs.get) if secs else None
-    slowest = f"slowest {slow} {secs[slow]:.2f} s" if slow else "slowest -"
-    return (f"load {step['load_factor']:.4g}, {step['dofs']} DOFs, "
-            f"{step['contact']['closed']} closed pairs, {slowest}")
+        super().__init__(case.propagation.steps, show=False if quiet else None)
 
 
 # ---------------------------------------------------------------- `check` output

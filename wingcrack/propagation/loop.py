@@ -23,6 +23,7 @@ from .fracture_set import FractureSet
 from .growth_law import STRAIGHT, advances
 from . import checkpoint
 from .joining import place_tip
+from ..results import LastSolve, dataframe, tip_rows
 from ..adaptivity import next_sizes
 
 #: the join distance, in rosette radii (see joining.py)
@@ -35,9 +36,10 @@ KEQ_RTOL = 1e-3
 
 
 @dataclass
-class RunResult:
-    """A propagation run: steps (dicts as in summary.json), the final
-    fracture set, the status, and the last step's mesh and problem."""
+class RunResult(LastSolve):
+    """A propagation run: status, steps (dicts as in summary.json), the final
+    fracture set, and the last step's crack mesh, problem and contact.
+    .tips, .polylines, .to_dataframe(), .dolfinx_mesh, .displacement."""
     status: str
     steps: list
     fractures: FractureSet
@@ -47,6 +49,20 @@ class RunResult:
     mesh: object = None
     problem: object = None
     contact: object = None
+
+    @property
+    def tips(self) -> list:
+        """The last step's tips (dicts as in summary.json)."""
+        return self.steps[-1]["tips"] if self.steps else []
+
+    @property
+    def polylines(self) -> list:
+        """Every fracture's polyline (n, 2) at the end, wings included."""
+        return [f.points.copy() for f in self.fractures.fractures]
+
+    def to_dataframe(self):
+        """One row per step and tip (pandas; see results.tip_rows for plain dicts)."""
+        return dataframe(tip_rows(self.steps))
 
 
 def _homogeneous(case, fset) -> bool:
