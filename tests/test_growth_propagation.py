@@ -93,3 +93,15 @@ def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):
 def test_load_factor_limit_stops_the_run():
     r = run(tension_plate(max_load_factor=1.0))
     assert r.status.startswith("stopped: no tip reaches KIc") and r.steps == []
+
+
+def test_fixed_load_below_kic_stops_with_a_complete_result(tmp_path):
+    """load = "fixed" and no tip at KIc: one solved step, recorded with its
+    files (so the pictures can be drawn), status stopped, no growth."""
+    case = tension_plate(steps=3, load="fixed")      # load factor 1: K = 1e5 sqrt(pi) << KIc = 1e6
+    r = run(case, out=tmp_path)
+    assert r.status == "stopped: no tip reaches KIc under the fixed load" and len(r.steps) == 1
+    step = r.steps[0]
+    assert all(t["K_eq"] < 1e6 for t in step["tips"]) and "total" in step["seconds"] and step["solves"] == 1
+    assert (tmp_path / "step_0000.vtu").exists() and (tmp_path / "faces_0000.vtu").exists()
+    assert (tmp_path / "fractures.png").exists()

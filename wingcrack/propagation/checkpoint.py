@@ -8,7 +8,8 @@ size field of the next mesh (so that a resumed run meshes exactly as an
 uninterrupted one). It is written atomically (temporary file, fsync,
 rename): a kill leaves the previous checkpoint or the new one, never half of
 one. A fingerprint of the case (everything but propagation.steps, so a run
-may also be resumed with more steps) guards against resuming another case.
+may also be resumed with more steps, and the file's path) guards against
+resuming another case.
 """
 from __future__ import annotations
 
@@ -28,8 +29,10 @@ VERSION = 1
 
 
 def fingerprint(case) -> str:
-    """sha256 of the case without propagation.steps."""
-    d = dataclasses.asdict(dataclasses.replace(case, propagation=dataclasses.replace(case.propagation, steps=0)))
+    """sha256 of the case without propagation.steps and without the path it
+    was read from (the same file named another way is the same case)."""
+    d = dataclasses.asdict(dataclasses.replace(case, propagation=dataclasses.replace(case.propagation, steps=0),
+                                               source=None))
     text = json.dumps(d, sort_keys=True, default=_plain)
     return hashlib.sha256(text.encode()).hexdigest()
 

@@ -159,9 +159,19 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             keqs = np.array([tips[i].K_eq for i in grow])
             reached = keqs >= mat.KIc * (1 - KEQ_RTOL)
             if prop.load == "fixed" and not reached.any():
+                # the solved step is a result too: recorded with its files, no growth
                 status = "stopped: no tip reaches KIc under the fixed load"
-                steps.append(_step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
-                                   dict(timer.seconds), contact_summary(_Sol(cm, contact))))
+                step = _step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
+                             dict(timer.seconds), contact_summary(_Sol(cm, contact)))
+                step["mesh"] = {n: cm.stats[n] for n in ("min_quality", "min_jacobian", "nodes", "tips",
+                                                         "gmsh_retried")}
+                step["solves"] = 1
+                steps.append(step)
+                if out is not None:
+                    _write_step_fields(out, k, lam, cm, problem, contact)
+                    timer.lap("output")
+                    step["seconds"]["output"] = round(timer.seconds["output"], 6)
+                step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
                 break
             G = np.where(reached, keqs ** 2 / Eprime, 0.0)
             theta = np.array([tips[i].theta for i in grow])
