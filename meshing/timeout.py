@@ -15,6 +15,30 @@ import time
 from collections.abc import Callable
 
 
+def _child_signals(parent: int) -> None:
+    """The child inherits the parent's C-level signal handlers (PETSc's call
+    MPI_Abort, which in a forked child waits forever for a daemon): back to
+    the defaults, so that a failing child just dies. SIGPIPE is ignored (a
+    write to a gone parent raises instead), Ctrl-C is the parent's, and the
+    child is killed when the parent dies (Linux prctl PR_SET_PDEATHSIG)."""
+    for sig in (signal.SIGTERM, signal.SIGSEGV, signal.SIGBUS, signal.SIGFPE, signal.SIGILL, signal.SIGABRT,
+                signal.SIGHUP, signal.SIGUSR1, signal.SIGUSR2):
+        try:
+            signal.signal(sig, signal.SIG_DFL)
+        except (OSError, ValueError):
+            pass
+    signal.signal(signal.SIGPIPE, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))   # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent:   # the parent died before prctl took effect
+        os._exit(1)
+
+
 class MeshTimeout(RuntimeError):
     """The child did not finish within the time limit."""
 
@@ -26,11 +50,12 @@ def run_with_timeout(fn: Callable[[], object], timeout: float | None):
     if timeout is None or not hasattr(os, "fork"):
         return fn()
     read_fd, write_fd = os.pipe()
+    parent = os.getpid()
     pid = os.fork()
     if pid == 0:  # child: never return into the caller's stack
         status = 0
         try:
-            signal.signal(signal.SIGINT, signal.SIG_IGN)   # Ctrl-C is the parent's to handle
+            _child_signals(parent)
             os.close(read_fd)
             try:
                 payload = pickle.dumps(("ok", fn()), protocol=pickle.HIGHEST_PROTOCOL)

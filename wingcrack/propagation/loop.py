@@ -249,6 +249,33 @@ def _python_handles_ctrl_c():
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
+class _ctrl_c_deferred:
+    """Within: Ctrl-C only sets a flag; on leaving, KeyboardInterrupt is raised
+    if it was pressed."""
+
+    def __enter__(self):
+        import signal
+        import threading
+
+        self.pressed = False
+        self.active = threading.current_thread() is threading.main_thread()
+        if self.active:
+            self.old = signal.signal(signal.SIGINT, self._flag)
+        return self
+
+    def _flag(self, *_):
+        self.pressed = True
+
+    def __exit__(self, *exc):
+        import signal
+
+        if self.active:
+            signal.signal(signal.SIGINT, self.old)
+        if self.pressed and exc[0] is None:
+            raise KeyboardInterrupt
+        return False
+
+
 def _release(problem):
     """Free the previous step's objects now: the MUMPS factors (tens of MB a
     step) are destroyed explicitly, and DOLFINx objects sit in reference
@@ -257,7 +284,8 @@ def _release(problem):
 
     if problem is not None:
         problem.destroy()
-    gc.collect()
+    with _ctrl_c_deferred():   # a KeyboardInterrupt inside a GC callback would be lost
+        gc.collect()
 
 
 class _Sol:
