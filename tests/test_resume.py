@@ -122,7 +122,11 @@ def test_ctrl_c_stops_cleanly_and_resumes(tmp_path):
     assert resumed.returncode == 0, resumed.stderr
     r = json.loads((out / "summary.json").read_text())
     assert r["status"] == "finished" and len(r["steps"]) == kept + 1
-    assert r["steps"][:kept] == s["steps"]
+    # the same physics (timings differ; a step whose checkpoint the interrupt
+    # beat is computed again, to the same numbers)
+    def physics(steps):
+        return [{k: v for k, v in st.items() if k != "seconds"} for st in steps]
+    assert physics(r["steps"][:kept]) == physics(s["steps"])
 
 
 def test_resume_refuses_what_it_cannot_continue(tmp_path):
