@@ -18,7 +18,8 @@ import pytest
 
 from networks import random_case, to_toml
 
-SEEDS = range(int(os.environ.get("WINGCRACK_SOAK_SEEDS", "20")))
+SEEDS = range(int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")),
+               int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")) + int(os.environ.get("WINGCRACK_SOAK_SEEDS", "20")))
 LIMIT = 300.0  # seconds a run may take (they take 2-20 s here)
 WINGCRACK = Path(sys.executable).with_name("wingcrack")
 
