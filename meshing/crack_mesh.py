@@ -255,10 +255,10 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
                 free_ends.append((f, end))
         polylines.append(pts)
 
-    polylines, junction = _junctions(polylines, free_ends, tol)
+    polylines, junction, met = _junctions(polylines, free_ends, tol)
     tips = []
     for f, end in free_ends:
-        if (f, end) in junction:
+        if (f, end) in junction or (f, end) in met:
             continue
         pts = polylines[f]
         i, j = (0, 1) if end == 0 else (-1, -2)
@@ -286,7 +286,9 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
 def _junctions(polylines, free_ends, tol):
     """Ends lying on another fracture (or on a non-adjacent segment of their
     own) are T-junctions: insert the point into the host polyline (unless it
-    is a vertex already). Returns (polylines, {(f, end): (host, vertex)})."""
+    is a vertex already). An end on another fracture's free end links the two
+    end to end (neither is a tip). Returns (polylines, {(f, end): (host,
+    vertex)}, {host ends met end to end})."""
     hits = []  # (f, end, host, segment, param)
     for f, end in free_ends:
         p = polylines[f][0 if end == 0 else -1]
@@ -305,7 +307,7 @@ def _junctions(polylines, free_ends, tol):
         if best is not None:
             hits.append((f, end, best[1], best[2], best[3]))
     if not hits:
-        return polylines, {}
+        return polylines, {}, set()
     # insert the junction points, per host segment in order of the parameter
     out = [list(map(np.copy, pts)) for pts in polylines]
     new_index: dict[tuple[int, int], int] = {}
@@ -331,17 +333,24 @@ def _junctions(polylines, free_ends, tol):
         for k, v in list(new_index.items()):
             if hits[k][2] == g and v < 0:
                 new_index[k] = index_of_vertex[-1 - v]
-    junction = {}
+    junction, met = {}, set()
     for k, (f, end, g, _, _) in enumerate(hits):
+        if (f, end) in met:
+            continue  # the other half of a tip-to-tip meeting, recorded from its partner
         vertex = new_index[k]
         host = out[g]
-        if (g, vertex) in ((g, 0), (g, len(host) - 1)):
-            raise ValueError(f"fracture {f}: end {end} meets the end of fracture {g} (not a T-junction)")
+        if vertex in (0, len(host) - 1):
+            # tip meets tip: the two fractures link end to end, neither end is a tip
+            other = (g, 0 if vertex == 0 else 1)
+            if other not in free_ends:
+                raise ValueError(f"fracture {f}: end {end} meets the mouth of fracture {g} on the boundary")
+            met.add(other)
+            junction.pop(other, None)
         junction[(f, end)] = (g, vertex)
     polylines = [np.array(rows, dtype=np.float64) for rows in out]
     for (f, end), (g, vertex) in junction.items():  # the same coordinates, bit for bit
         polylines[f][0 if end == 0 else -1] = polylines[g][vertex]
-    return polylines, junction
+    return polylines, junction, met
 
 
 def _check_rosettes_fit(domain: Domain, polylines, tips, junction) -> None:
@@ -452,8 +461,10 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes
                 tags[i] = anchor_tag[plan.mouth_anchor[(f, end)]]
             elif (f, end) in tip_of:
                 tags[i] = tip_point[tip_of[(f, end)]][1]
-        for i in range(1, len(pts) - 1):
-            tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
+        joined = {0 if end == 0 else len(pts) - 1 for (g, end) in plan.junction if g == f}
+        for i in range(len(pts)):
+            if not tags[i] and i not in joined:  # inner vertices; an end met end to end by another
+                tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
         vertex_tags.append(tags)
     for (f, end), (g, vertex) in plan.junction.items():
         vertex_tags[f][0 if end == 0 else -1] = vertex_tags[g][vertex]

@@ -49,3 +49,43 @@ def test_closed_t_junction_under_hydrostatic_compression(angle):
     np.testing.assert_allclose(contact.normal_traction(), -S, rtol=1e-8)
     for t in all_sifs(case, cm, problem, contact, [f.points for f in fractures]):
         assert abs(t.KI) < 1e-8 * S and abs(t.KII) < 1e-8 * S
+
+
+def test_closed_fractures_met_end_to_end_under_hydrostatic_compression():
+    """Two fractures linked end to end (a wing that reached another's tip):
+    the meeting node has two copies shared by both fractures' faces: one
+    pair, with a normal row for each fracture (the copies must not overlap
+    across either face; parallel normals would repeat each other and give
+    one row); the hydrostatic reference holds as for the T."""
+    a = np.array([[-1.0, 0.0], [0.2, 0.0]])
+    b = np.array([[0.2, 0.0], [0.9, 0.5]])
+    d = square_plate_with_cracks(L, [a], (-S, -S, 0.0), size=1.0, tip_size=0.05)
+    d["fractures"][0]["faces"] = "frictionless"
+    case = Case.from_dict(d)
+    cm, problem, contact = build(case, [case.fractures[0], replace(case.fractures[0], points=b)], _Timer())
+    meet = np.flatnonzero(np.linalg.norm(cm.x - a[-1], axis=1) < 1e-14)
+    assert len(meet) == 2 and len(cm.tips) == 2
+    rows_here = np.isin(contact.rows.plus, meet) & np.isin(contact.rows.minus, meet)
+    assert rows_here.sum() == 2
+    contact.solve(1.0)
+    assert contact.result.active.all()
+    u = nodal_displacements(problem.fm, problem.u, np.arange(len(cm.x)))
+    assert np.abs(u).max() < 1e-12 * S * L / case.material.E
+    np.testing.assert_allclose(contact.normal_traction(), -S, rtol=1e-8)
+
+
+def test_a_join_next_to_a_growing_tip_links_the_two():
+    """The loop's rule: a join point within reach of another fracture's tip
+    moves onto that tip, and both ends stop ('joined')."""
+    from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
+    from wingcrack.propagation.loop import _meet_tip_to_tip
+
+    def frac(p):
+        return GrowingFracture(np.array(p, float), (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
+
+    fset = FractureSet([frac([[0, 0], [1, 0]]), frac([[1.05, 0.5], [1.02, 0.04]])])
+    p = _meet_tip_to_tip(fset, 0, np.array([1.0, 0.03]), reach=0.075)
+    np.testing.assert_array_equal(p, [1.02, 0.04])
+    assert fset.fractures[1].ends == ["tip", "joined"]
+    q = _meet_tip_to_tip(fset, 0, np.array([0.5, 0.3]), reach=0.075)   # far from any tip: unchanged
+    np.testing.assert_array_equal(q, [0.5, 0.3])

@@ -162,3 +162,20 @@ def test_a_hanging_gmsh_is_retried_once_then_fails(monkeypatch):
     monkeypatch.setattr(cm_mod, "_gmsh_session", lambda *a: time.sleep(60))
     with pytest.raises(MeshTimeout, match="did not finish within 1 s"):
         crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=1.0)
+
+
+def test_two_fractures_meeting_end_to_end():
+    """A wing that ends on another fracture's free end links the two: no
+    rosette at either end, the meeting node has two copies (two crack rays),
+    and the two fractures' pairs there sit on the same two nodes."""
+    domain = Domain("rectangle", corner=[-0.5, -0.5], size=[1.0, 1.0])
+    a = np.array([[-0.2, 0.0], [0.0, 0.0]])
+    b = np.array([[0.0, 0.0], [0.15, 0.12]])   # starts where a ends
+    mesh = crack_mesh(domain, [a, b], [], size=0.1, tip_size=H)
+    assert sorted((t.fracture, t.end) for t in mesh.tips) == [(0, 0), (1, 1)]
+    at = np.flatnonzero(np.linalg.norm(mesh.x - [0.0, 0.0], axis=1) < 1e-14)
+    assert len(at) == 2
+    here = [set(p.tolist()) for p in mesh.pairs if set(p.tolist()) <= set(at.tolist())]
+    assert len(here) >= 1 and all(h == set(at.tolist()) for h in here)
+    from test_meshing import p2_area
+    assert p2_area(mesh.x, mesh.cells) == pytest.approx(1.0, rel=1e-12)

@@ -60,22 +60,34 @@ def tributary_lengths(x: np.ndarray, edges: np.ndarray, num_nodes: int) -> np.nd
     return w
 
 
-def pair_tributary_lengths(cm) -> np.ndarray:
-    """(p,) int N ds of each pair of `cm` over the face edges of its own
-    fracture that hold both of its nodes (at a T-junction a node copy also
-    borders the other fracture's faces: those do not count)."""
+def pair_tributary_lengths(cm, fracture=None) -> np.ndarray:
+    """(p,) int N ds of each pair of `cm` over the face edges that hold both
+    of its nodes (at a T-junction a node copy also borders the other
+    fracture's faces: those do not count), of fracture[i] only when given
+    (where two fractures meet end to end they share the pair's nodes)."""
     plus_e = np.asarray(cm.crack_edges, dtype=np.int64).reshape(-1, 3)
     minus_e = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = len(cm.x)
     contrib = _edge_integrals(np.asarray(cm.x), plus_e)
+    if fracture is not None:   # a pair's key also carries its fracture
+        nf = int(max(np.max(cm.crack_fracture, initial=0), np.max(fracture, initial=0))) + 1
+        efrac = np.repeat(np.asarray(cm.crack_fracture, dtype=np.int64), 3)
+        edge_keys = (plus_e * n + minus_e).ravel() * nf + efrac
+        pair_keys = (pairs[:, 0] * n + pairs[:, 1]) * nf + np.asarray(fracture, dtype=np.int64)
+        return _sum_by_key(edge_keys, pair_keys, contrib)
     edge_keys = (plus_e * n + minus_e).ravel()
     pair_keys = pairs[:, 0] * n + pairs[:, 1]
+    return _sum_by_key(edge_keys, pair_keys, contrib)
+
+
+def _sum_by_key(edge_keys, pair_keys, contrib):
+    """Sum the edge-node contributions onto the pairs with the same key."""
     order = np.argsort(pair_keys)
     where = np.searchsorted(pair_keys[order], edge_keys)
     where = np.minimum(where, len(order) - 1) if len(order) else where
     found = pair_keys[order][where] == edge_keys if len(order) else np.zeros(0, bool)
-    w = np.zeros(len(pairs))
+    w = np.zeros(len(pair_keys))
     np.add.at(w, order[where[found]], contrib.ravel()[found])
     return w
 
@@ -125,6 +137,36 @@ def slip_profile(fracture, position, pts=None) -> float:
     return fracture.slip
 
 
+#: normals closer to parallel than this (|sin|) add no second row: it would repeat the first
+PARALLEL = 0.1
+
+
+def _meeting_normals(cm, pairs, pfrac) -> dict:
+    """{frozenset(plus, minus): [(fracture, unit left normal of its face,
+    oriented from minus to plus)]} for the pairs whose two nodes are held by
+    the faces of more than one fracture (fractures met end to end), the
+    pair's own fracture first."""
+    x = np.asarray(cm.x)
+    plus_e = np.asarray(cm.crack_edges, dtype=np.int64).reshape(-1, 3)
+    minus_e = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
+    efrac = np.asarray(cm.crack_fracture, dtype=np.int64)
+    touching: dict = {}   # node -> {fracture: (side, left normal)}
+    for e in range(len(plus_e)):
+        d = x[plus_e[e, 1]] - x[plus_e[e, 0]]
+        n = np.array([-d[1], d[0]]) / np.linalg.norm(d)
+        for side, edge in ((1.0, plus_e[e]), (-1.0, minus_e[e])):
+            for v in edge[:2]:
+                touching.setdefault(int(v), {})[int(efrac[e])] = (side, n)
+    out = {}
+    for i, (a, b) in enumerate(pairs):   # nodes a (plus) and b (minus)
+        ta, tb = touching.get(int(a), {}), touching.get(int(b), {})
+        shared = sorted(g for g in set(ta) & set(tb) if ta[g][0] != tb[g][0])
+        if len(shared) > 1:   # the own fracture first
+            shared.sort(key=lambda g: g != pfrac[i])
+            out[frozenset((int(a), int(b)))] = [(g, ta[g][0] * ta[g][1]) for g in shared]
+    return out
+
+
 def constraint_rows(cm, fractures) -> ConstraintRows:
     """Rows for every pair of the CrackMesh `cm`; `fractures` are the case's
     Fracture objects (faces, gap, slip, slip_profile) or the propagation's
@@ -132,10 +174,10 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     normals = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
-    w_pair = pair_tributary_lengths(cm)
+    w_pair = pair_tributary_lengths(cm, pfrac)
     rows = {k: [] for k in ("plus", "minus", "direction", "kind", "pair", "fracture", "gap", "slip", "weight", "position")}
 
-    def add(i, v, kind, gap, slip):
+    def add(i, v, kind, gap, slip, weight=None):
         plus, minus = pairs[i]
         rows["plus"].append(plus)
         rows["minus"].append(minus)
@@ -145,7 +187,7 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
         rows["fracture"].append(pfrac[i])
         rows["gap"].append(gap)
         rows["slip"].append(slip)
-        rows["weight"].append(w_pair[i])
+        rows["weight"].append(w_pair[i] if weight is None else weight)
         rows["position"].append(cm.x[plus])
 
     x = np.asarray(cm.x)
@@ -155,13 +197,31 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
     # host prescribes slip there, the joining fracture's own pair would repeat
     # a combination of the host's rows (a singular pair system): it gets none.
     slip_nodes = {int(v) for i, part in enumerate(parts) if part[0] == "slip" for v in pairs[i]}
+    # Where two fractures meet end to end, both own the same two node copies:
+    # one pair (the first); its rows get each fracture's normal (unless
+    # parallel), since the copies must not overlap across either face.
+    seen, meeting = set(), _meeting_normals(cm, pairs, pfrac)
     for i in range(len(pairs)):
         f = fractures[pfrac[i]]
         faces, gap, pts = parts[i]
         if faces == "open" or (faces != "slip" and slip_nodes.intersection(pairs[i].tolist())):
             continue
+        key = frozenset(pairs[i].tolist())
+        if key in seen:
+            continue
+        seen.add(key)
         n = normals[i]
-        add(i, n, NORMAL, gap, 0.0)
+        if key in meeting:
+            # fractures meeting end to end: a row per fracture's own normal (the
+            # pair's normal is their average), each with its own face length
+            used = []
+            for g, n_g in meeting[key]:
+                if all(abs(n_g[0] * u[1] - n_g[1] * u[0]) > PARALLEL for u in used):
+                    used.append(n_g)
+                    add(i, n_g, NORMAL, gap, 0.0, weight=pair_tributary_lengths(cm, np.full(len(pairs), g))[i])
+            n = used[0]
+        else:
+            add(i, n, NORMAL, gap, 0.0)
         if faces == "slip":
             t = np.array([n[1], -n[0]])
             add(i, t, TANGENTIAL, 0.0, slip_profile(f, x[pairs[i, 0]], pts))

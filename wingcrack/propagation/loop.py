@@ -186,6 +186,8 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 tipinfo = cm.tips[i]
                 d = np.cos(t.theta) * np.asarray(tipinfo.ex) + np.sin(t.theta) * np.asarray(tipinfo.ey)
                 p, state = place_tip(fset, t.fracture, t.end, d, L[j], case.domain, REACH * h)
+                if state == "joined":   # on another fracture's growing end: link them end to end
+                    p = _meet_tip_to_tip(fset, t.fracture, p, REACH * h)
                 a = f.tip(t.end)
                 if abs(t.theta) <= STRAIGHT and state == "tip" and L[j] < 0.4 * h:
                     f.move_tip(t.end, p)       # straight on: move the tip node
@@ -298,6 +300,20 @@ def _correlation(case, cm, problem):
 
     m = case.material
     return correlation_sifs(problem, cm, m.E, m.nu, m.plane)
+
+
+def _meet_tip_to_tip(fset, fi, p, reach):
+    """A join point within `reach` of another fracture's free end (a tip)
+    would leave that tip's rosette no room: the two meet at that end, which
+    stops growing too ("joined"). Returns the join point."""
+    for g, other in enumerate(fset.fractures):
+        if g == fi:
+            continue
+        for e in (0, 1):
+            if other.ends[e] == "tip" and np.linalg.norm(other.tip(e) - p) <= reach:
+                other.ends[e] = "joined"
+                return other.tip(e).copy()
+    return p
 
 
 def _check_no_crossing(fset):
