@@ -89,3 +89,16 @@ def test_a_join_next_to_a_growing_tip_links_the_two():
     assert fset.fractures[1].ends == ["tip", "joined"]
     q = _meet_tip_to_tip(fset, 0, np.array([0.5, 0.3]), reach=0.075)   # far from any tip: unchanged
     np.testing.assert_array_equal(q, [0.5, 0.3])
+
+
+def test_a_kink_folding_back_onto_its_own_crack_is_not_a_join():
+    """A wing that turns back onto its own crack would enclose a piece of the
+    body that nothing holds (soak seed 72 failed 'singular' so): such a join
+    point is recognised, and the loop leaves the tip where it is."""
+    from wingcrack.propagation.fracture_set import GrowingFracture
+    from wingcrack.propagation.loop import _on_own_fracture
+
+    f = GrowingFracture(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.1], [0.9, 0.1]]), (0, 1), ["tip", "tip"],
+                        "open", 0.0, 0.0, "uniform", True)
+    assert _on_own_fracture(f, 1, np.array([0.95, 0.0]))        # back on its own first segment
+    assert not _on_own_fracture(f, 1, np.array([0.85, 0.3]))    # free space

@@ -186,6 +186,8 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 tipinfo = cm.tips[i]
                 d = np.cos(t.theta) * np.asarray(tipinfo.ex) + np.sin(t.theta) * np.asarray(tipinfo.ey)
                 p, state = place_tip(fset, t.fracture, t.end, d, L[j], case.domain, REACH * h)
+                if state == "joined" and _on_own_fracture(f, t.end, p):
+                    continue   # a kink folding back onto its own crack would cut out a free sliver: no growth
                 if state == "joined":   # on another fracture's growing end: link them end to end
                     p = _meet_tip_to_tip(fset, t.fracture, p, REACH * h)
                 a = f.tip(t.end)
@@ -300,6 +302,17 @@ def _correlation(case, cm, problem):
 
     m = case.material
     return correlation_sifs(problem, cm, m.E, m.nu, m.plane)
+
+
+def _on_own_fracture(f, end, p) -> bool:
+    """Is the join point `p` on the growing fracture's own polyline (beyond
+    the segment at the tip)? Joining there closes a loop around a piece of
+    the body that nothing holds."""
+    pts = f.points[:-1] if end == 1 else f.points[1:]
+    if len(pts) < 2:
+        return False
+    scale = float(np.ptp(f.points, axis=0).max()) or 1.0
+    return K.point_polyline_distance(np.asarray(p, float), pts) <= 1e-9 * scale
 
 
 def _meet_tip_to_tip(fset, fi, p, reach):
