@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from networks import random_case, to_toml
+from wingcrack.propagation.loop import crossing_pair
 
 SEEDS = range(int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")),
                int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")) + int(os.environ.get("WINGCRACK_SOAK_SEEDS", "20")))
@@ -28,20 +29,6 @@ def _no_nan(text: str) -> None:
     def refuse(c):
         raise AssertionError(f"summary.json holds {c}")
     json.loads(text, parse_constant=refuse)
-
-
-def _crossing(polys) -> bool:
-    """Do two polylines cross (touching at a T or an end is allowed)?"""
-    from wingcrack import _kernels as K
-    for i in range(len(polys)):
-        for j in range(i + 1, len(polys)):
-            a, b = polys[i], polys[j]
-            for s in range(len(a) - 1):
-                for r in range(len(b) - 1):
-                    hit, t, u, _ = K.segment_intersection(a[s], a[s + 1], b[r], b[r + 1], 1e-12)
-                    if hit and 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9:
-                        return True
-    return False
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -68,9 +55,18 @@ def test_random_network(seed, tmp_path):
         by_fracture.setdefault(piece["fracture"], []).append(np.asarray(piece["points"], float))
     polys = [np.concatenate([p if k == 0 else p[1:] for k, p in enumerate(pieces)])
              for pieces in by_fracture.values()]
-    assert not _crossing(polys), f"seed {seed}: fractures cross"
+    assert crossing_pair(polys) is None, f"seed {seed}: fractures cross"
     for step in summary["steps"]:
         mesh = step.get("mesh")
         if mesh:
             assert mesh["min_jacobian"] > 0 and mesh["min_quality"] > 0.1, (seed, step["step"], mesh)
     print(f"seed {seed}: {status} after {len(summary['steps'])} steps")
+
+
+def test_crossing_pair_tells_crossing_from_touching():
+    """The check used above and after every step: an X crosses, a T or two
+    ends meeting only touch."""
+    h = np.array([[-1.0, 0.0], [1.0, 0.0]])
+    assert crossing_pair([h, np.array([[0.0, -1.0], [0.0, 1.0]])]) == (0, 1)
+    assert crossing_pair([h, np.array([[0.0, 0.0], [0.0, 1.0]])]) is None      # a T
+    assert crossing_pair([h, np.array([[1.0, 0.0], [2.0, 1.0]])]) is None      # end to end

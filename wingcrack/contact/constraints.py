@@ -201,6 +201,7 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
     # one pair (the first); its rows get each fracture's normal (unless
     # parallel), since the copies must not overlap across either face.
     seen, meeting = set(), _meeting_normals(cm, pairs, pfrac)
+    w_of = {}   # fracture -> pair lengths over its faces only (meeting nodes)
     for i in range(len(pairs)):
         f = fractures[pfrac[i]]
         faces, gap, pts = parts[i]
@@ -218,7 +219,9 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
             for g, n_g in meeting[key]:
                 if all(abs(n_g[0] * u[1] - n_g[1] * u[0]) > PARALLEL for u in used):
                     used.append(n_g)
-                    add(i, n_g, NORMAL, gap, 0.0, weight=pair_tributary_lengths(cm, np.full(len(pairs), g))[i])
+                    if g not in w_of:
+                        w_of[g] = pair_tributary_lengths(cm, np.full(len(pairs), g))
+                    add(i, n_g, NORMAL, gap, 0.0, weight=w_of[g][i])
             n = used[0]
         else:
             add(i, n, NORMAL, gap, 0.0)

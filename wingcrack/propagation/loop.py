@@ -88,7 +88,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     kept, and raises KeyboardInterrupt again."""
     from mpi4py import MPI
 
-    from ..api import _Timer, _step, _summary, all_sifs, build, contact_summary
+    from ..api import _Timer, _summary, all_sifs, build
     from ..io.summary import write_summary
 
     comm = MPI.COMM_WORLD
@@ -161,17 +161,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             if prop.load == "fixed" and not reached.any():
                 # the solved step is a result too: recorded with its files, no growth
                 status = "stopped: no tip reaches KIc under the fixed load"
-                step = _step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
-                             dict(timer.seconds), contact_summary(_Sol(cm, contact)))
-                step["mesh"] = {n: cm.stats[n] for n in ("min_quality", "min_jacobian", "nodes", "tips",
-                                                         "gmsh_retried")}
-                step["solves"] = 1
-                steps.append(step)
-                if out is not None:
-                    _write_step_fields(out, k, lam, cm, problem, contact)
-                    timer.lap("output")
-                    step["seconds"]["output"] = round(timer.seconds["output"], 6)
-                step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
+                steps.append(_record(out, k, lam, cm, problem, contact, tips, timer, solves=1))
                 break
             G = np.where(reached, keqs ** 2 / Eprime, 0.0)
             theta = np.array([tips[i].theta for i in grow])
@@ -203,18 +193,9 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             if case.mesh.adaptive:
                 sizes = next_sizes(problem, h, case.mesh.size)
                 timer.lap("estimate")
-            step = _step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
-                         dict(timer.seconds), contact_summary(_Sol(cm, contact)))
-            for i, td in enumerate(step["tips"]):
-                td["state"], td["advance"] = states[i], adv[i]
-            step["mesh"] = {k: cm.stats[k] for k in ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried")}
-            step["solves"] = int(crit.solves) if prop.load == "scale" else 1
+            step = _record(out, k, lam, cm, problem, contact, tips, timer,
+                           solves=int(crit.solves) if prop.load == "scale" else 1, states=states, advances=adv)
             steps.append(step)
-            if out is not None:
-                _write_step_fields(out, k, lam, cm, problem, contact)
-                timer.lap("output")
-                step["seconds"]["output"] = round(timer.seconds["output"], 6)
-            step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
             done["fset"] = fset.copy()
             write("running" if k < prop.steps - 1 else status)
             if out is not None and comm.rank == 0:
@@ -329,18 +310,45 @@ def _meet_tip_to_tip(fset, fi, p, reach):
     return p
 
 
-def _check_no_crossing(fset):
-    """Fractures never cross (they may touch at T-junctions)."""
-    polys = fset.polylines()
+def crossing_pair(polys):
+    """(i, j) of the first two polylines that cross (touching at a T or an
+    end is not crossing), or None."""
     for i in range(len(polys)):
         for j in range(i + 1, len(polys)):
             a, b = polys[i], polys[j]
             for s in range(len(a) - 1):
                 for r in range(len(b) - 1):
                     hit, t, u, _ = K.segment_intersection(a[s], a[s + 1], b[r], b[r + 1], 1e-12)
-                    interior = 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9
-                    if hit and interior:
-                        raise ComputationError(f"fractures {i} and {j} cross")
+                    if hit and 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9:
+                        return i, j
+    return None
+
+
+def _check_no_crossing(fset):
+    """Fractures never cross (they may touch at T-junctions)."""
+    pair = crossing_pair(fset.polylines())
+    if pair is not None:
+        raise ComputationError(f"fractures {pair[0]} and {pair[1]} cross")
+
+
+def _record(out, k, lam, cm, problem, contact, tips, timer, solves, states=None, advances=None) -> dict:
+    """The summary record of solved step k (tip states and advances when it
+    grew), its field files written when there is an output folder."""
+    from ..api import _step, contact_summary
+
+    step = _step(k, lam, problem.fm.num_dofs, problem.fm.num_cells, tips,
+                 dict(timer.seconds), contact_summary(_Sol(cm, contact)))
+    if states is not None:
+        for i, td in enumerate(step["tips"]):
+            td["state"], td["advance"] = states[i], advances[i]
+    step["mesh"] = {n: cm.stats[n] for n in ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried")}
+    step["solves"] = solves
+    if out is not None:
+        _write_step_fields(out, k, lam, cm, problem, contact)
+        timer.lap("output")
+        step["seconds"]["output"] = round(timer.seconds["output"], 6)
+    step["seconds"]["total"] = round(sum(timer.seconds.values()), 6)
+    return step
 
 
 def _write_step_fields(out, k, load_factor, cm, problem, contact):
