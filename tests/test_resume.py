@@ -100,15 +100,19 @@ def test_killed_run_resumes_to_the_same_geometry(tmp_path, reference, seed):
     same_geometry(reference, tips_of(out))
 
 
-def test_ctrl_c_stops_cleanly_and_resumes(tmp_path):
+@pytest.mark.parametrize("delay", [0.0, 0.7])
+def test_ctrl_c_stops_cleanly_and_resumes(tmp_path, delay):
     """SIGINT in the middle of a long run: exit 130, "stopped: interrupted",
     the finished steps kept; --resume (here asked for one step more, which
     a case may change: propagation.steps is not part of its fingerprint)
-    continues from them."""
+    continues from them. delay 0 signals right after summary.json shows a
+    new step, while the step is being committed (CI once caught the
+    checkpoint's zip half-written there); 0.7 s lands inside the next step."""
     case = write_case(tmp_path / "case.toml", steps=60)
     out = tmp_path / "out"
     proc = start(case, out)
     wait_for_steps(proc, out, 2)
+    time.sleep(delay)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err

@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import io
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from ..io.atomic import write_atomic
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
@@ -56,18 +56,9 @@ def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes) -
     arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
     if sizes is not None:
         arrays["size_triangles"], arrays["size_values"] = sizes
-    out = Path(out)
-    fd, tmp = tempfile.mkstemp(prefix=".checkpoint.", suffix=".npz", dir=out)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, meta=np.array(json.dumps(meta, default=_plain)), **arrays)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, out / NAME)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    buf = io.BytesIO()   # built in memory: an interrupt here leaves no file and no open zip on disk
+    np.savez(buf, meta=np.array(json.dumps(meta, default=_plain)), **arrays)
+    write_atomic(Path(out) / NAME, buf.getvalue())
 
 
 def load(out, case) -> dict:

@@ -195,11 +195,12 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 timer.lap("estimate")
             step = _record(out, k, lam, cm, problem, contact, tips, timer,
                            solves=int(crit.solves) if prop.load == "scale" else 1, states=states, advances=adv)
-            steps.append(step)
-            done["fset"] = fset.copy()
-            write("running" if k < prop.steps - 1 else status)
-            if out is not None and comm.rank == 0:
-                checkpoint.save(out, case, k, fset, lam, steps, sizes)
+            with _ctrl_c_deferred():   # the step is committed whole: summary and checkpoint agree
+                steps.append(step)
+                done["fset"] = fset.copy()
+                write("running" if k < prop.steps - 1 else status)
+                if out is not None and comm.rank == 0:
+                    checkpoint.save(out, case, k, fset, lam, steps, sizes)
             if progress is not None:
                 progress(k, step)
         except KeyboardInterrupt:
