@@ -10,10 +10,11 @@ export OMP_NUM_THREADS ?= 1
 # libopenblas0-serial: Debian's alternatives then point libblas/liblapack (numpy,
 # scipy, MUMPS) at OpenBLAS instead of the reference BLAS: the factorisation
 # runs ~1.8x and dense solves ~6x faster. Serial: one thread per MPI rank.
+# openmpi-bin: mpirun, for `mpirun -n N wingcrack run` and its test.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
   libgtest-dev googletest python3-scipy python3-matplotlib python3-pil python3-meshio \
   python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build \
-  libopenblas0-serial \
+  libopenblas0-serial openmpi-bin \
   python3-nbclient python3-nbformat python3-ipykernel
 KERNEL_FILES := $(wildcard cpp_kernels/*/*.cpp cpp_kernels/include/wingcrack/*.hpp) CMakeLists.txt pyproject.toml
 STAMP := $(VENV)/.wingcrack-installed

@@ -14,10 +14,12 @@ TARGET = 0.05
 
 def next_sizes(problem, tip_size: float, size: float):
     """The size field for the next mesh: (triangles (m, 3, 2), values (m, 3)),
-    the vertex sizes on every cell of the current mesh (gathered from all
-    processes), linear in each cell; the crack-face copies of a node take
-    the smaller of their sizes, so the field is continuous across cracks."""
-    x, cells, stress = cell_stress(problem)
+    the vertex sizes on every cell of the current mesh, linear in each cell;
+    the crack-face copies of a node take the smaller of their sizes, so the
+    field is continuous across cracks. Every process computes it on the
+    whole mesh in the mesher's cell order, so any number of processes gives
+    the field of one (to round-off in the stresses)."""
+    x, cells, stress = whole_mesh_stress(problem)
     eta = recovered_stress_error(x, cells, stress)
     pts, vals = size_field(x, cells, eta, tip_size, size, TARGET, cell_stress=stress)
     # merge coincident points (crack-face copies) keeping the minimum
@@ -28,9 +30,25 @@ def next_sizes(problem, tip_size: float, size: float):
     np.minimum.at(merged, inv, vals)
     per_node = np.full(len(x), np.nan)
     per_node[np.unique(cells[:, :3])] = merged[inv]
-    tri, values = x[cells[:, :3]], per_node[cells[:, :3]]
-    comm = problem.fm.mesh.comm
-    if comm.size > 1:
-        tri = np.concatenate(comm.allgather(tri))
-        values = np.concatenate(comm.allgather(values))
-    return tri, values
+    # on a grid of 1e-9 size (as the kink angles in propagation.loop): the
+    # field of a run on N processes is then the field of one, bit for bit
+    grid = 1e-9 * size
+    return x[cells[:, :3]], np.round(per_node[cells[:, :3]] / grid) * grid
+
+
+def whole_mesh_stress(problem):
+    """cell_stress of every process's cells, gathered on every process: x by
+    mesher node, cells (mesher node numbers, gmsh order) and their stresses
+    in the mesher's cell order."""
+    fm = problem.fm
+    msh = fm.mesh
+    x, cells, stress = cell_stress(problem)
+    ids = np.asarray(msh.topology.original_cell_index, dtype=np.int64)[:len(cells)]
+    part = (ids, fm.original[cells], stress, fm.original, x)
+    parts = msh.comm.allgather(part) if msh.comm.size > 1 else [part]
+    ids, cells, stress = (np.concatenate([q[i] for q in parts]) for i in range(3))
+    order = np.argsort(ids)
+    nodes = np.concatenate([q[3] for q in parts])
+    xs = np.zeros((nodes.max() + 1, 2))
+    xs[nodes] = np.concatenate([q[4] for q in parts])
+    return xs, np.ascontiguousarray(cells[order]), np.ascontiguousarray(stress[order])

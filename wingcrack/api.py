@@ -76,10 +76,11 @@ def build(case, fractures, timer: _Timer, mesh_kwargs=None):
     from .fem.mesh import to_dolfinx
     from .fem.pair_operator import PairOperator
     from .loads import case_loads
+    from .parallel import on_root
 
     polylines = [np.asarray(f.points, float) for f in fractures]
-    cm = crack_mesh(case.domain, polylines, case.bc_points(), case.mesh.size,
-                    case.mesh.tip_size, sectors=case.mesh.sectors, **(mesh_kwargs or {}))
+    cm = on_root(lambda: crack_mesh(case.domain, polylines, case.bc_points(), case.mesh.size,
+                                     case.mesh.tip_size, sectors=case.mesh.sectors, **(mesh_kwargs or {})))
     timer.lap("mesh")
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
@@ -220,12 +221,13 @@ def sif(case, out=None, quiet: bool = True, status: str = "finished", force: boo
         about = {"step": 0, "load_factor": 1.0}
         files["fields"] = write_fields(out / "fields.vtu", problem, cm, field_data=about)
         files["faces"] = write_faces(out / "faces.vtu", sol, field_data=about)
+        closed = closed_segments(sol)   # collective: the face displacements are gathered
         if MPI.COMM_WORLD.rank == 0:
             files["picture"] = plot_fractures(
                 out / "fractures.png", case.domain,
                 [{"points": f.points, "origin": "pre-existing"} for f in case.fractures],
                 tips=[{"x": t.x, "y": t.y} for t in tips], rosette=case.mesh.tip_size,
-                title=case.title, mesh=cm, closed_segments=closed_segments(sol))
+                title=case.title, mesh=cm, closed_segments=closed)
         timer.lap("output")
     seconds = dict(timer.seconds)
     seconds["total"] = sum(seconds.values())

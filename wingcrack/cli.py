@@ -17,6 +17,7 @@ from pathlib import Path
 
 from wingcrack import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
+from wingcrack.parallel import world_rank
 from wingcrack.progress import ProgressBar, progress_text  # noqa: F401 - progress_text: tests
 
 PROG = "wingcrack"
@@ -73,8 +74,15 @@ def _positive(text: str) -> float:
     return value
 
 
-def _error(message: str) -> None:
-    print(f"{PROG}: error: {message}", file=sys.stderr)
+def _error(message: str, every_rank: bool = False) -> None:
+    """One line on stderr. Under mpirun the ranks share the news of a bad
+    case or a failed computation (rank 0 tells it); an unexpected error may
+    be one rank's own, so each rank tells it, naming itself."""
+    rank = world_rank()
+    if rank != 0 and not every_rank:
+        return
+    where = f" (rank {rank})" if rank else ""
+    print(f"{PROG}: error{where}: {message}", file=sys.stderr)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -99,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
                                  resume=args.resume)
         else:
             result = api.sif(case, args.out, args.quiet, force=args.force)
-        if result is not None:  # where the results are, even with --quiet
+        if result is not None and world_rank() == 0:  # where the results are, even with --quiet
             print(f"{PROG}: {result.summary['status']}; results in {args.out}/: " + _names(result.files))
         return EXIT_OK
     except (CaseError, FolderError) as err:
@@ -116,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc()
         detail = " ".join(str(err).split()) or "(no message)"
         hint = "" if args.debug else " (run with --debug for the traceback)"
-        _error(f"unexpected {type(err).__name__}: {detail}{hint}")
+        _error(f"unexpected {type(err).__name__}: {detail}{hint}", every_rank=True)
         return EXIT_FAILED
 
 

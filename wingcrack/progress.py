@@ -16,7 +16,9 @@ class ProgressBar:
         self.bar = None
 
     def __enter__(self):
-        if self.show is not False:
+        from .parallel import world_rank
+
+        if self.show is not False and world_rank() == 0:   # one bar under mpirun
             if self.show:
                 from tqdm.auto import tqdm   # a widget in notebooks, text elsewhere
             else:

@@ -14,10 +14,13 @@ kept for measuring jumps.
 from __future__ import annotations
 
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 from scipy import linalg, sparse
 
 
+BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
+Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
              "boundary condition holds")
 
@@ -74,33 +77,36 @@ class PairOperator:
             self.S = W.T @ W
             return
 
-        # Z = K^-1 B_free by MUMPS' multi-RHS solve with a sparse right-hand
-        # side (B^T given as AIJ behind a transpose wrapper: ICNTL(20) sparse
-        # RHS, 3x faster here than a dense B), all columns in one block.
-        N = imap.size_global * bs
-        r0 = imap.local_range[0] * bs
-        Bt = PETSc.Mat().createAIJ([(PETSc.DECIDE, m), (self.n_owned, N)], comm=comm)
-        Bt.setPreallocationNNZ((8, 8))
-        Bt.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        Bt.setUp()
-        coo = self.B_free.tocoo()
-        for d, c, v in zip(coo.row, coo.col, coo.data):
-            Bt.setValue(int(c), int(d + r0), v)
-        Bt.assemble()
-        Btv = PETSc.Mat().createTranspose(Bt)
-        Zm = PETSc.Mat().createDense([(self.n_owned, N), (PETSc.DECIDE, m)], comm=comm)
-        Zm.setUp()
+        # S = B^T K^-1 B by MUMPS multi-right-hand-side solves on dense
+        # blocks of B's columns (a parallel MUMPS takes a distributed dense
+        # right-hand side; its sparse one must sit on one process). Z = K^-1 B
+        # is kept for the pair-force response when it is small, otherwise
+        # that response is one more solve.
         if not problem._factored:
             problem.factorize()
         F = problem.solver.getPC().getFactorMatrix()
-        if m:
-            F.setMumpsIcntl(27, max(1, m))
-            F.matSolve(Btv, Zm)
-        self.Z = Zm.getDenseArray().copy()  # MPIDENSE: owned rows, all columns
-        self.S = comm.allreduce(np.asarray(self.B_free.T @ self.Z))
+        biggest = comm.allreduce(self.n_owned, op=MPI.MAX)
+        keep = biggest * m <= Z_KEEP   # the same choice on every process (add_forces is collective)
+        block = max(1, BLOCK // max(biggest, 1))
+        Z = np.zeros((self.n_owned, m)) if keep else None
+        self.S = np.zeros((m, m))
+        Bf = self.B_free.tocsc()
+        for c0 in range(0, m, block):
+            c1 = min(m, c0 + block)
+            Rm = PETSc.Mat().createDense([(self.n_owned, PETSc.DETERMINE), (PETSc.DECIDE, c1 - c0)],
+                                         array=np.asfortranarray(Bf[:, c0:c1].toarray()), comm=comm)
+            Zm = PETSc.Mat().createDense([(self.n_owned, PETSc.DETERMINE), (PETSc.DECIDE, c1 - c0)], comm=comm)
+            Zm.setUp()
+            F.matSolve(Rm, Zm)
+            Zb = Zm.getDenseArray()
+            self.S[:, c0:c1] = Bf.T @ Zb
+            if keep:
+                Z[:, c0:c1] = Zb
+            for obj in (Rm, Zm):
+                obj.destroy()
+        self.Z = Z
+        self.S = comm.allreduce(self.S)
         self.S = 0.5 * (self.S + self.S.T)  # symmetric up to round-off
-        for obj in (Btv, Bt, Zm):
-            obj.destroy()
 
     def jumps(self, u_owned: np.ndarray) -> np.ndarray:
         """B^T u for the owned part of a displacement vector."""

@@ -44,13 +44,16 @@ def closed_segments(sol) -> list:
 def write_faces(path: Path, sol, field_data: dict | None = None) -> Path:
     """line3 cells of the + faces; point data at the + face nodes (zero at
     tips, which are not pairs); `field_data` ({name: number}) as in
-    write_fields."""
+    write_fields. Collective (the face displacements are gathered); rank 0
+    writes."""
     import meshio
 
     from .pvd import add_field_data
 
     cm = sol.cm
     st = face_state(sol)
+    if sol.problem.fm.mesh.comm.rank != 0:
+        return Path(path)
     edges = np.asarray(cm.crack_edges, dtype=np.int64)
     nodes, local = np.unique(edges, return_inverse=True)
     index = {int(v): i for i, v in enumerate(nodes)}

@@ -33,6 +33,20 @@ REACH = 1.5
 #: tips of the symmetric disc differ by ~3e-5 on an unsymmetric mesh) grow
 #: together, as the symmetric physics says.
 KEQ_RTOL = 1e-3
+#: kink angles (rad) and advances (in propagation.length) are rounded to
+#: these grids before the geometry is built. The SIFs of one run on 1 and on
+#: N processes differ by round-off (~1e-13: the parallel solve sums in
+#: another order), and gmsh turns any difference in its input, however
+#: small, into another mesh; on the grids both runs build the same geometry
+#: bit for bit (a rounding boundary falls between them with probability
+#: ~1e-5 a tip and step). 1e-8 rad moves a 1 mm step's end by 1e-11 m.
+ANGLE_GRID = 1e-8
+LENGTH_GRID = 1e-8
+
+
+def snap(value, grid: float):
+    """value rounded to a multiple of grid."""
+    return np.round(np.asarray(value, float) / grid) * grid
 
 
 @dataclass
@@ -164,8 +178,8 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 steps.append(_record(out, k, lam, cm, problem, contact, tips, timer, solves=1))
                 break
             G = np.where(reached, keqs ** 2 / Eprime, 0.0)
-            theta = np.array([tips[i].theta for i in grow])
-            L = advances(G, prop.length, prop.alpha, 0.4 * h, theta)
+            theta = snap([tips[i].theta for i in grow], ANGLE_GRID)
+            L = snap(advances(G, prop.length, prop.alpha, 0.4 * h, theta), LENGTH_GRID * prop.length)
             states = {i: "arrested" for i in range(len(tips))}
             adv = {i: 0.0 for i in range(len(tips))}
             for j, i in enumerate(grow):
@@ -174,14 +188,14 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 t = tips[i]
                 f = fset.fractures[t.fracture]
                 tipinfo = cm.tips[i]
-                d = np.cos(t.theta) * np.asarray(tipinfo.ex) + np.sin(t.theta) * np.asarray(tipinfo.ey)
+                d = np.cos(theta[j]) * np.asarray(tipinfo.ex) + np.sin(theta[j]) * np.asarray(tipinfo.ey)
                 p, state = place_tip(fset, t.fracture, t.end, d, L[j], case.domain, REACH * h)
                 if state == "joined" and _on_own_fracture(f, t.end, p):
                     continue   # a kink folding back onto its own crack would cut out a free sliver: no growth
                 if state == "joined":   # on another fracture's growing end: link them end to end
                     p = _meet_tip_to_tip(fset, t.fracture, p, REACH * h)
                 a = f.tip(t.end)
-                if abs(t.theta) <= STRAIGHT and state == "tip" and L[j] < 0.4 * h:
+                if abs(theta[j]) <= STRAIGHT and state == "tip" and L[j] < 0.4 * h:
                     f.move_tip(t.end, p)       # straight on: move the tip node
                 else:
                     f.extend(t.end, p)

@@ -1,0 +1,125 @@
+"""Issue 8: runs under mpirun agree with serial runs.
+
+References: the same command on one process. The parallel solve sums in
+another order, so SIFs may differ by round-off only: 1e-8 of the largest
+|K| of the step is 1e5 times the ~1e-13 measured, and far below the
+discretisation error (1e-3), so any real defect (a pair or tip missed on one
+rank, a ghost counted twice, a wrong gather) is caught. Fracture paths must
+be identical: kink angles, advances and the size field are rounded to grids
+(propagation.loop.ANGLE_GRID) so both runs hand gmsh the same input; the
+check allows 1e-12 of the domain, i.e. nothing but the last bits.
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+WINGCRACK = Path(sys.executable).with_name("wingcrack")
+MPIRUN = shutil.which("mpirun")
+
+pytestmark = pytest.mark.skipif(MPIRUN is None, reason="mpirun is installed by make setup (openmpi-bin)")
+
+
+def mpi_env():
+    env = dict(os.environ)
+    # CI runs as root; Open MPI refuses root unless told
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    return env
+
+
+def wingcrack(ranks, *args, timeout=600):
+    cmd = ([MPIRUN, "-n", str(ranks)] if ranks > 1 else []) + [str(WINGCRACK), *map(str, args)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), timeout=timeout)
+    assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+def with_steps(case, steps, path):
+    text = (ROOT / "cases" / case).read_text()
+    lines = [f"steps = {steps}" if line.startswith("steps =") else line for line in text.splitlines()]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def summary(out):
+    return json.loads((out / "summary.json").read_text())
+
+
+def assert_sifs_agree(a, b):
+    assert len(a["tips"]) == len(b["tips"]) > 0
+    scale = max(max(abs(t[k] or 0.0) for k in ("KI", "KII")) for t in a["tips"])
+    for ta, tb in zip(a["tips"], b["tips"]):
+        for k in ("KI", "KII", "KI_M", "KII_M"):
+            if ta[k] is None or tb[k] is None:   # a joined tip has none
+                assert ta[k] is tb[k] is None, (k, ta[k], tb[k])
+            else:
+                assert abs(ta[k] - tb[k]) <= 1e-8 * scale, (k, ta[k], tb[k])
+
+
+def test_sif_on_two_ranks_equals_one(tmp_path):
+    """The 45-degree disc with closed faces: every output written once, by
+    rank 0, and the same SIFs and contact state."""
+    case = ROOT / "cases" / "brazilian_disc_45.toml"
+    one = wingcrack(1, "sif", case, "-o", tmp_path / "one", "--quiet")
+    two = wingcrack(2, "sif", case, "-o", tmp_path / "two", "--quiet")
+    assert two.stdout.count("results in") == 1 and two.stderr == ""   # one rank speaks
+    assert sorted(p.name for p in (tmp_path / "two").iterdir()) == \
+        sorted(p.name for p in (tmp_path / "one").iterdir())
+    a, b = summary(tmp_path / "one")["steps"][0], summary(tmp_path / "two")["steps"][0]
+    assert a["dofs"] == b["dofs"]
+    assert_sifs_agree(a, b)
+    assert a["contact"]["closed"] == b["contact"]["closed"] == a["contact"]["pairs"] > 0
+
+
+def test_pair_response_without_stored_compliance_columns(tmp_path):
+    """On several ranks the pair forces' response is K^-1 B mu, from stored
+    columns Z = K^-1 B when they are small, otherwise one more solve: both
+    give the same contact solution."""
+    script = tmp_path / "both.py"
+    script.write_text(f"""
+import json, sys
+import numpy as np
+from mpi4py import MPI
+from wingcrack.case import Case
+from wingcrack import api
+from wingcrack.fem import pair_operator
+case = Case.from_toml({str(ROOT / "cases" / "brazilian_disc_45.toml")!r})
+out = []
+for keep in (pair_operator.Z_KEEP, 0):
+    pair_operator.Z_KEEP = keep
+    sol = api.solve_initial(case)
+    out.append([[t.KI, t.KII] for t in sol.tips])
+if MPI.COMM_WORLD.rank == 0:
+    print(json.dumps(out))
+""")
+    proc = subprocess.run([MPIRUN, "-n", "2", sys.executable, str(script)], capture_output=True, text=True,
+                          env=mpi_env(), timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    kept, solved = np.array(json.loads(proc.stdout.strip().splitlines()[-1]))
+    assert np.abs(kept - solved).max() <= 1e-8 * np.abs(kept).max()
+
+
+@pytest.mark.parametrize("case", ["brazilian_disc_45.toml", "multi_fractures_shear.toml"])
+def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
+    path = with_steps(case, 10, tmp_path / case)
+    wingcrack(1, "run", path, "-o", tmp_path / "one", "--quiet", "--no-plots")
+    wingcrack(2, "run", path, "-o", tmp_path / "two", "--quiet", "--no-plots")
+    a, b = summary(tmp_path / "one"), summary(tmp_path / "two")
+    assert a["status"] == b["status"] and len(a["steps"]) == len(b["steps"]) == 10
+    for sa, sb in zip(a["steps"], b["steps"]):
+        assert sa["dofs"] == sb["dofs"]   # the same mesh every step
+        assert abs(sa["load_factor"] - sb["load_factor"]) <= 1e-8 * sa["load_factor"]
+        assert_sifs_agree(sa, sb)
+        assert [t["state"] for t in sa["tips"]] == [t["state"] for t in sb["tips"]]
+    size = 0.084 if "disc" in case else 7.0
+    fa = [np.array(f["points"]) for f in a["fractures"]]
+    fb = [np.array(f["points"]) for f in b["fractures"]]
+    assert len(fa) == len(fb)
+    for p, q in zip(fa, fb):
+        assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * size

@@ -1,0 +1,43 @@
+"""Running under mpirun/srun: which rank this process is, and doing a piece
+of work on rank 0 only with every rank getting its result (or its error)."""
+from __future__ import annotations
+
+import os
+import sys
+
+_RANK_VARIABLES = ("OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID")
+
+
+def world_rank() -> int:
+    """This process's rank in MPI_COMM_WORLD, without starting MPI when it
+    is not started yet (the launcher's environment says it); 0 when serial."""
+    mpi = sys.modules.get("mpi4py.MPI")
+    if mpi is not None and mpi.Is_initialized():
+        return mpi.COMM_WORLD.rank
+    for name in _RANK_VARIABLES:
+        value = os.environ.get(name, "")
+        if value.isdigit():
+            return int(value)
+    return 0
+
+
+def on_root(make):
+    """make() on rank 0 (gmsh meshes there only), its result, or the error it
+    raised, broadcast to every rank: all ranks go on, or all raise."""
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD
+    if comm.size == 1:
+        return make()
+    value, error = None, None
+    if comm.rank == 0:
+        try:
+            value = make()
+        except (RuntimeError, ValueError) as err:
+            error = err
+        except Exception as err:  # noqa: BLE001 - the other ranks must hear of it too
+            error = RuntimeError(f"{type(err).__name__}: {err}")
+    value, error = comm.bcast((value, error), root=0)
+    if error is not None:
+        raise error
+    return value
