@@ -2,7 +2,9 @@
 
 Runs `wingcrack.sif` on the 45-degree Brazilian disc at about 30,000 DOFs,
 once to compile the forms and then REPEAT times, and prints the phases
-(mesh, to-DOLFINx, assemble, factorize, solve, SIF, output) with their share.
+(mesh, to-DOLFINx, assemble, factorize, solve, SIF, output) with their share;
+then the propagation cases (propagation.py) and the 30k-1M DOF scaling on
+1 and 2 MPI ranks (scaling.py).
 """
 from __future__ import annotations
 
@@ -99,6 +101,8 @@ def main(argv=None):
     bench_contact(args.repeat)
     from propagation import main as bench_propagation
     bench_propagation()
+    from scaling import main as bench_scaling
+    bench_scaling([])
 
 
 if __name__ == "__main__":

@@ -4,8 +4,11 @@ Column j of B holds +v_j at the + node's dofs and -v_j at the - node's, so
 B^T u are the jumps (u+ - u-).v_j and B mu are the pair forces. S comes from
 the Schur complement S_c of K on the pair dofs P that MUMPS computes during
 the factorisation ((K^-1)_PP = S_c^-1; see fem.schur), or, where that is not
-available (several processes), from Z = K^-1 B by one multi-right-hand-side
-back-substitution. Either way it is built once per mesh; every active-set
+available (several processes: PETSc 3.18 offers MUMPS Schur complements on
+one process only), from K^-1 B by MUMPS multi-right-hand-side solves, one per
+pair row in effect (the contact phase then grows with pairs x DOFs; see the
+README's "Several processes").
+Either way it is built once per mesh; every active-set
 iteration, load factor or slip value is then a small dense solve, and the
 pair forces' response is one more back-substitution. Rows of B at Dirichlet
 dofs are zeroed for the force side (a prescribed dof takes no force), but
@@ -20,6 +23,9 @@ from scipy import linalg, sparse
 
 
 BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
+#: MUMPS ICNTL(27), right-hand sides treated together in the solve phase:
+#: 64 took 2.64 s for 69 columns at 311k DOFs on 2 ranks (default -32: 3.96 s, 128: 3.00 s)
+RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
              "boundary condition holds")
@@ -85,6 +91,7 @@ class PairOperator:
         if not problem._factored:
             problem.factorize()
         F = problem.solver.getPC().getFactorMatrix()
+        F.setMumpsIcntl(27, RHS_BLOCKING)
         biggest = comm.allreduce(self.n_owned, op=MPI.MAX)
         keep = biggest * m <= Z_KEEP   # the same choice on every process (add_forces is collective)
         block = max(1, BLOCK // max(biggest, 1))
