@@ -123,3 +123,43 @@ def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
     assert len(fa) == len(fb)
     for p, q in zip(fa, fb):
         assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * size
+
+
+def test_bad_case_under_mpirun_says_it_once(tmp_path):
+    """Bad input: exit 2 and one line, from rank 0 only, nothing written."""
+    bad = ROOT / "tests" / "bad_cases" / "E_nan.toml"
+    proc = subprocess.run([MPIRUN, "-n", "2", str(WINGCRACK), "sif", str(bad), "-o", str(tmp_path / "out")],
+                          capture_output=True, text=True, env=mpi_env(), timeout=120)
+    assert proc.returncode == 2
+    lines = [ln for ln in proc.stderr.splitlines() if ln.startswith("wingcrack:")]
+    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_failure_on_two_ranks_is_raised_on_both(tmp_path):
+    """A free piece (singular stiffness, tests/test_singular_guard.py): every
+    rank raises the same ComputationError; none waits forever in a
+    collective call (the timeout would fail the test)."""
+    script = tmp_path / "free.py"
+    script.write_text(f"""
+import sys
+sys.path.insert(0, {str(ROOT / "tests")!r})
+from dataclasses import replace
+import numpy as np
+from mpi4py import MPI
+from test_singular_guard import plate
+from wingcrack.api import _Timer, build
+from wingcrack.errors import ComputationError
+case = plate("frictionless", False)
+cut = replace(case.fractures[0], points=np.array([[0.0, 0.5], [1.0, 0.5]]))
+try:
+    cm, problem, contact = build(case, [cut], _Timer())
+    contact.solve(1.0)
+    print("rank", MPI.COMM_WORLD.rank, "solved")
+except ComputationError as err:
+    print("rank", MPI.COMM_WORLD.rank, "raised", "singular" in str(err))
+""")
+    proc = subprocess.run([MPIRUN, "-n", "2", sys.executable, str(script)], capture_output=True, text=True,
+                          env=mpi_env(), timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert sorted(proc.stdout.split("\n")[:2]) == ["rank 0 raised True", "rank 1 raised True"], proc.stdout
