@@ -8,11 +8,19 @@ a 32-sector rosette), which turns each kink by ~0.1 degree (theta ~ -2
 KII/KI) and moves the next tip sideways by ~2e-3 of the step. Measured
 mirror errors over 10 steps of 0.5 mm: 2.2e-3 (open) and 1.4e-3 (contact)
 of the step; 64 sectors or a second structured ring did not reduce them
-(noise from the unstructured mesh beyond the rosette).
+(noise from the unstructured mesh beyond the rosette). Since kink angles and
+advances are rounded to 1e-8 grids (propagation.loop.ANGLE_GRID, for
+identical paths on any number of processes) gmsh meets slightly different
+inputs and the same runs measure 2.9e-3 (open) and 2.2e-3 (contact): the
+mirror error is mesh noise and moves with the mesh sequence. Per step the
+two tips' DC KII differ by 2e-4..2e-3 of K_eq (growing with the steps), the
+advances by <= 2e-4 of the step. (The interaction integral cannot take over
+here: a wing's last segment leaves it no room for a domain after step 0.)
 
 The issue asks for 1e-3 of the step: NOT met yet (see the issue note).
-MIRROR_BOUND is the regression guard at the measured level (x1.5), kept
-separate so that the target stays visible.
+MIRROR_BOUND is the regression guard (1.5x the first measurement; the
+open disc now sits at 0.97 of it), kept separate so that the target stays
+visible.
 """
 import dataclasses
 from pathlib import Path
@@ -24,7 +32,7 @@ from wingcrack.api import run
 from wingcrack.case import Case
 
 TARGET = 1e-3        # the issue's bound, in step lengths (not met: see above)
-MIRROR_BOUND = 3e-3  # regression guard: measured 2.2e-3 / 1.4e-3
+MIRROR_BOUND = 3e-3  # regression guard: measured 2.2e-3 / 1.4e-3, 2.9e-3 / 2.2e-3 with the grids
 CASES = Path(__file__).resolve().parent.parent / "cases"
 
 
