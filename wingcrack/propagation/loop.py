@@ -21,7 +21,7 @@ from ..errors import ComputationError
 from .critical_load import critical_load_factor
 from .fracture_set import FractureSet
 from .growth_law import STRAIGHT, advances
-from . import checkpoint
+from . import checkpoint, interrupt
 from .joining import place_tip
 from ..results import LastSolve, dataframe, tip_rows
 from ..adaptivity import next_sizes
@@ -100,6 +100,11 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     on from the checkpoint in `out` (see checkpoint.py). Ctrl-C (SIGINT)
     stops at once with status "stopped: interrupted", every finished step
     kept, and raises KeyboardInterrupt again."""
+    with interrupt.watching():
+        return _run(case, out, progress, mesh_timeout, resume)
+
+
+def _run(case, out, progress, mesh_timeout, resume) -> RunResult:
     from mpi4py import MPI
 
     from ..api import _Timer, _summary, all_sifs, build
@@ -107,7 +112,6 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
 
     comm = MPI.COMM_WORLD
     out = None if out is None else Path(out)   # made ready by api.run
-    _python_handles_ctrl_c()
     fset = FractureSet.from_case(case)
     mat, prop = case.material, case.propagation
     Eprime = mat.E if mat.plane == "stress" else mat.E / (1 - mat.nu ** 2)
@@ -139,6 +143,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     for k in range(first, prop.steps):
         timer = _Timer()
         try:
+            interrupt.check()
             if not fset.active_tips():
                 status = "stopped: no tip can grow (every tip joined, at the boundary or not growing)"
                 break
@@ -147,6 +152,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
             cm, problem, contact = build(case, fset.fractures, timer,
                                          mesh_kwargs={"timeout": mesh_timeout, "sizes": sizes})
             last = (cm, problem, contact)
+            interrupt.check()
             grow = _grow_index(cm, fset)
             if not grow:
                 status = "stopped: no tip can grow (every tip joined, at the boundary or not growing)"
@@ -166,6 +172,7 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 lam = crit.load_factor
             contact.solve(lam)
             timer.lap("solve")
+            interrupt.check()
             tips = all_sifs(case, cm, problem, contact, fset.polylines())
             timer.lap("sif")
 
@@ -203,13 +210,14 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
                 states[i] = "growing" if state == "tip" else state
                 adv[i] = float(np.linalg.norm(p - a))
             timer.lap("growth")
+            interrupt.check()
             _check_no_crossing(fset)
             if case.mesh.adaptive:
                 sizes = next_sizes(problem, h, case.mesh.size)
                 timer.lap("estimate")
             step = _record(out, k, lam, cm, problem, contact, tips, timer,
                            solves=int(crit.solves) if prop.load == "scale" else 1, states=states, advances=adv)
-            with _ctrl_c_deferred():   # the step is committed whole: summary and checkpoint agree
+            with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 steps.append(step)
                 done["fset"] = fset.copy()
                 write("running" if k < prop.steps - 1 else status)
@@ -236,46 +244,6 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     return result
 
 
-def _python_handles_ctrl_c():
-    """`import gmsh` sets SIGINT to its default (the process just dies); give
-    it back to Python so that Ctrl-C raises KeyboardInterrupt and the run
-    stops cleanly."""
-    import signal
-    import threading
-
-    import gmsh  # noqa: F401 - its import is what resets SIGINT: have it done first
-
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-
-
-class _ctrl_c_deferred:
-    """Within: Ctrl-C only sets a flag; on leaving, KeyboardInterrupt is raised
-    if it was pressed."""
-
-    def __enter__(self):
-        import signal
-        import threading
-
-        self.pressed = False
-        self.active = threading.current_thread() is threading.main_thread()
-        if self.active:
-            self.old = signal.signal(signal.SIGINT, self._flag)
-        return self
-
-    def _flag(self, *_):
-        self.pressed = True
-
-    def __exit__(self, *exc):
-        import signal
-
-        if self.active:
-            signal.signal(signal.SIGINT, self.old)
-        if self.pressed and exc[0] is None:
-            raise KeyboardInterrupt
-        return False
-
-
 def _release(problem):
     """Free the previous step's objects now: the MUMPS factors (tens of MB a
     step) are destroyed explicitly, and DOLFINx objects sit in reference
@@ -284,7 +252,7 @@ def _release(problem):
 
     if problem is not None:
         problem.destroy()
-    with _ctrl_c_deferred():   # a KeyboardInterrupt inside a GC callback would be lost
+    with interrupt.deferred():   # a KeyboardInterrupt inside a GC callback would be lost
         gc.collect()
 
 
