@@ -68,7 +68,9 @@ def test_sif_on_two_ranks_equals_one(tmp_path):
     case = ROOT / "cases" / "brazilian_disc_45.toml"
     one = wingcrack(1, "sif", case, "-o", tmp_path / "one", "--quiet")
     two = wingcrack(2, "sif", case, "-o", tmp_path / "two", "--quiet")
-    assert two.stdout.count("results in") == 1 and two.stderr == ""   # one rank speaks
+    # one rank speaks (Open MPI may add its own notes on stderr on other machines)
+    assert two.stdout.count("results in") == 1
+    assert not [ln for ln in two.stderr.splitlines() if ln.startswith("wingcrack")] and "Traceback" not in two.stderr
     assert sorted(p.name for p in (tmp_path / "two").iterdir()) == \
         sorted(p.name for p in (tmp_path / "one").iterdir())
     a, b = summary(tmp_path / "one")["steps"][0], summary(tmp_path / "two")["steps"][0]

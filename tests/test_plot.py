@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 from wingcrack import cli
+from wingcrack.progress import progress_text
 
 W = 4.0   # plate side (m)
 PLATE = f"""
@@ -349,7 +350,7 @@ STEP = {"step": 3, "load_factor": 1.2345678, "dofs": 7042, "contact": {"pairs": 
 
 
 def test_progress_shows_load_dofs_closed_pairs_and_the_slowest_phase():
-    assert cli.progress_text(STEP) == "load 1.235, 7042 DOFs, 37 closed pairs, slowest mesh 0.31 s"
+    assert progress_text(STEP) == "load 1.235, 7042 DOFs, 37 closed pairs, slowest mesh 0.31 s"
 
 
 class _Terminal:
@@ -380,7 +381,7 @@ def test_progress_bar_on_a_terminal_and_none_with_quiet(monkeypatch):
     with cli._progress(case, quiet=False) as progress:
         progress(0, STEP)
     shown = "".join(term.text)
-    assert "1/34" in shown and cli.progress_text(STEP) in shown
+    assert "1/34" in shown and progress_text(STEP) in shown
 
 
 ROOT_CASE = Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml"

@@ -7,6 +7,7 @@ import numpy as np
 
 from .error_estimate import recovered_stress_error, size_field
 from .fem.cell_stress import cell_stress
+from .parallel import snap
 
 #: target: the estimated error is this fraction of the stress norm
 TARGET = 0.05
@@ -30,10 +31,9 @@ def next_sizes(problem, tip_size: float, size: float):
     np.minimum.at(merged, inv, vals)
     per_node = np.full(len(x), np.nan)
     per_node[np.unique(cells[:, :3])] = merged[inv]
-    # on a grid of 1e-9 size (as the kink angles in propagation.loop): the
-    # field of a run on N processes is then the field of one, bit for bit
-    grid = 1e-9 * size
-    return x[cells[:, :3]], np.round(per_node[cells[:, :3]] / grid) * grid
+    # on a grid of 1e-9 size (parallel.snap, as the kink angles): the field
+    # of a run on N processes is then the field of one, bit for bit
+    return x[cells[:, :3]], snap(per_node[cells[:, :3]], 1e-9 * size)
 
 
 def whole_mesh_stress(problem):

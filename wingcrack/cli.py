@@ -18,7 +18,7 @@ from pathlib import Path
 from wingcrack import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
 from wingcrack.parallel import world_rank
-from wingcrack.progress import ProgressBar, progress_text  # noqa: F401 - progress_text: tests
+from wingcrack.progress import ProgressBar
 
 PROG = "wingcrack"
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2

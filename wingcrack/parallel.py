@@ -1,9 +1,12 @@
-"""Running under mpirun/srun: which rank this process is, and doing a piece
-of work on rank 0 only with every rank getting its result (or its error)."""
+"""Running under mpirun/srun: which rank this process is, doing a piece of
+work on rank 0 only with every rank getting its result (or its error), and
+rounding what gmsh is given so that any number of ranks meshes alike."""
 from __future__ import annotations
 
 import os
 import sys
+
+import numpy as np
 
 _RANK_VARIABLES = ("OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID")
 
@@ -41,3 +44,13 @@ def on_root(make):
     if error is not None:
         raise error
     return value
+
+
+def snap(value, grid: float):
+    """value rounded to a multiple of grid. The numbers of one run on 1 and on
+    N processes differ by round-off (~1e-13: parallel sums go in another
+    order), and gmsh turns any difference in its input into another mesh;
+    rounded to a grid far above round-off, both hand gmsh the same input bit
+    for bit (a rounding boundary falls between them with probability about
+    round-off / grid)."""
+    return np.round(np.asarray(value, float) / grid) * grid

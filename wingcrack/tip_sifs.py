@@ -16,6 +16,8 @@ from .fem.nodal import nodal_displacements
 R_OUT_ROSETTES = 4.0
 #: an annulus domain needs an outer radius above this many rosette radii
 ANNULUS = 1.2
+#: outer radius of the one-layer domain, in rosette radii (see interaction_radius)
+R_OUT_ONE_LAYER = 1.05
 
 
 @dataclass
@@ -35,10 +37,6 @@ class TipSIF:
 
     def as_dict(self):
         return asdict(self)
-
-
-#: Outer radius of the one-layer domain, in rosette radii (see interaction_radius)
-R_OUT_ONE_LAYER = 1.05
 
 
 def interaction_radius(tip, fractures, domain) -> float:
@@ -74,7 +72,7 @@ def interaction_radius(tip, fractures, domain) -> float:
     limit = min(others, own)
     if limit > ANNULUS * h:
         return limit
-    if others > ANNULUS * h and own / 0.8 > h:
+    if others > ANNULUS * h and own / 0.8 > R_OUT_ONE_LAYER * h:   # q = 0 at the kink
         return R_OUT_ONE_LAYER * h
     return 0.0
 

@@ -25,6 +25,7 @@ from . import checkpoint, interrupt
 from .joining import place_tip
 from ..results import LastSolve, dataframe, tip_rows
 from ..adaptivity import next_sizes
+from ..parallel import snap
 
 #: the join distance, in rosette radii (see joining.py)
 REACH = 1.5
@@ -34,19 +35,12 @@ REACH = 1.5
 #: together, as the symmetric physics says.
 KEQ_RTOL = 1e-3
 #: kink angles (rad) and advances (in propagation.length) are rounded to
-#: these grids before the geometry is built. The SIFs of one run on 1 and on
-#: N processes differ by round-off (~1e-13: the parallel solve sums in
-#: another order), and gmsh turns any difference in its input, however
-#: small, into another mesh; on the grids both runs build the same geometry
-#: bit for bit (a rounding boundary falls between them with probability
-#: ~1e-5 a tip and step). 1e-8 rad moves a 1 mm step's end by 1e-11 m.
+#: these grids before the geometry is built (parallel.snap: 1 and N
+#: processes then build the same geometry; with SIF round-off ~1e-13 a
+#: rounding boundary separates them with probability ~1e-5 a tip and step).
+#: 1e-8 rad moves a 1 mm step's end by 1e-11 m.
 ANGLE_GRID = 1e-8
 LENGTH_GRID = 1e-8
-
-
-def snap(value, grid: float):
-    """value rounded to a multiple of grid."""
-    return np.round(np.asarray(value, float) / grid) * grid
 
 
 @dataclass
