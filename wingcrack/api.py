@@ -74,7 +74,9 @@ def build(case, fractures, timer: _Timer, mesh_kwargs=None):
     from .fem.contact_problem import ContactProblem
     from .fem.elasticity import ElasticProblem
     from .fem.mesh import to_dolfinx
+    from .errors import ComputationError
     from .fem.pair_operator import PairOperator
+    from .free_pieces import describe, free_pieces
     from .loads import case_loads
     from .parallel import on_root
 
@@ -86,6 +88,10 @@ def build(case, fractures, timer: _Timer, mesh_kwargs=None):
     timer.lap("to_dolfinx")
     m = case.material
     loads = case_loads(case, cm)
+    pieces = free_pieces(cm, loads)
+    if pieces:
+        raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
+                               f"no displacement condition holds ({describe(pieces)})")
     problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
     rows = constraint_rows(cm, fractures)
     timer.lap("assemble")
