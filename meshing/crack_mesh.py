@@ -12,6 +12,12 @@ One call builds the whole mesh of one step (paper sections 3.1-3.3):
    a crack face gets one copy per side, and the copies are paired for contact;
 5. the mid nodes of the edges at each tip moved to the quarter points.
 
+A geometry that the half turn about the domain's centre maps onto itself is
+meshed point-symmetrically (meshing/point_symmetry.py): gmsh meshes the half
+on one side of a straight divider through the centre, the other half is its
+image, so symmetric problems give symmetric answers to round-off
+(stats["symmetric"]).
+
 Lengths in metres. Node order in cells is gmsh's [v0, v1, v2, m01, m12, m20],
 counter-clockwise. Fracture direction d runs from a polyline's first point to
 its last; the + face is on the left of d.
@@ -19,6 +25,7 @@ its last; the + face is on the left of d.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -26,6 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from meshing import point_symmetry
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout, run_with_timeout
 
@@ -121,12 +129,17 @@ def crack_mesh(
     if not (0.0 < tip_size < size):
         raise ValueError(f"need 0 < tip_size < size, got tip_size={tip_size}, size={size}")
     plan = _plan(domain, fractures, points, tip_size)
+    half = point_symmetry.find_half(
+        domain, plan.fractures, [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors], tip_size
+    )
+    if half is not None:
+        plan = _with_divider(domain, plan, half)
 
     t0 = time.perf_counter()
 
     def attempt(coarsen: float, algorithm: int):
         scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
-        return lambda: _gmsh_session(domain, plan, size, tip_size, sectors, size_at, scaled, algorithm)
+        return lambda: _gmsh_session(domain, plan, size, tip_size, sectors, size_at, scaled, half, algorithm)
 
     retried = False
     try:
@@ -135,6 +148,8 @@ def crack_mesh(
         retried = True  # once: coarser sizes, Delaunay instead of Frontal-Delaunay
         raw = run_with_timeout(attempt(1.5, 5), timeout)
     t_gmsh = time.perf_counter() - t0
+    if half is not None:
+        raw = _glue(domain, plan, half, raw)
 
     t0 = time.perf_counter()
     split = _kernels.split_faces(
@@ -176,6 +191,8 @@ def crack_mesh(
         "min_quality": float(triangle_quality(x, mesh.cells).min()) if len(mesh.cells) else 0.0,
         "seconds_gmsh": t_gmsh,
         "gmsh_retried": retried,
+        "symmetric": half is not None,
+        "divider_angle": None if half is None else math.degrees(half.angle),
         "seconds_split": t_split,
         "seconds": time.perf_counter() - t_start,
     }
@@ -384,57 +401,59 @@ def _point_segment_distance(p, a, b) -> float:
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _gmsh_session(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm) -> dict:
+def _gmsh_session(domain, plan, size, tip_size, sectors, size_at, sizes, half, algorithm) -> dict:
     import gmsh
 
     gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm)
+        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm, half)
     except Exception as error:  # gmsh raises bare Exception
         raise RuntimeError(f"gmsh could not mesh the domain: {error}") from error
     finally:
         gmsh.finalize()
 
 
-def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes, algorithm) -> dict:
+def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes, algorithm, half=None) -> dict:
+    """The mesh of the whole domain, or with `half` (a point_symmetry.Half) of
+    the half on the left of the divider only; the other half's tips and crack
+    curves are then free geometry that only shapes the size field."""
     import gmsh
 
     geo = gmsh.model.geo
     gmsh.model.add("wingcrack")
+    meshed = (lambda x: True) if half is None else half.left
 
     # Outer boundary: anchors and corners in counter-clockwise order.
     anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
+    ring = _boundary_ring(domain, plan, geo, anchor_tag)  # [(point tag, name of the curve after it)]
+    center = geo.addPoint(*domain.center, 0.0) if domain.shape == "disc" else None
+    if half is None:
+        pieces = list(zip(ring, ring[1:] + ring[:1]))
+    else:  # from the divider's end p counter-clockwise to its other end R(p)
+        tags = [tag for tag, _ in ring]
+        start, stop = tags.index(_anchor_at(plan, anchor_tag, half.points[-1])), tags.index(
+            _anchor_at(plan, anchor_tag, half.points[0])
+        )
+        arc = ring[start:] + ring[:start]
+        arc = arc[: (stop - start) % len(ring) + 1]
+        pieces = list(zip(arc[:-1], arc[1:]))
     boundary_curves: list[tuple[int, str]] = []
-    if domain.shape == "disc":
-        center = geo.addPoint(*domain.center, 0.0)
-        angles = [(t, tag) for (_, t, _), tag in zip(plan.anchors, anchor_tag)]
-        angles = _fill_arc_gaps(sorted(angles), domain, geo)
-        for (t0, a), (t1, b) in zip(angles, angles[1:] + angles[:1]):
-            boundary_curves.append((geo.addCircleArc(a, center, b), "rim"))
-    else:
-        corners, names = domain.vertices(), domain.edge_names()
-        tol = ON_BOUNDARY * domain.length_scale()
-        ring = []
-        for i, corner in enumerate(corners):
-            on_corner = [k for k, (_, _, p) in enumerate(plan.anchors) if np.linalg.norm(p - corner) <= tol]
-            ring.append((anchor_tag[on_corner[0]] if on_corner else geo.addPoint(*corner, 0.0), names[i]))
-            inner = sorted(
-                (t, anchor_tag[k])
-                for k, (e, t, p) in enumerate(plan.anchors)
-                if e == i and k not in on_corner and np.linalg.norm(p - corners[(i + 1) % len(corners)]) > tol
-            )
-            ring.extend((tag, names[i]) for _, tag in inner)
-        for (a, name), (b, _) in zip(ring, ring[1:] + ring[:1]):
-            boundary_curves.append((geo.addLine(a, b), name))
-    loops = [geo.addCurveLoop([c for c, _ in boundary_curves])]
+    for (a, name), (b, _) in pieces:
+        curve = geo.addCircleArc(a, center, b) if center is not None else geo.addLine(a, b)
+        boundary_curves.append((curve, name))
+    outer = [c for c, _ in boundary_curves]
 
     # Rosettes: one transfinite triangle per sector, spoke 0 along the crack.
-    rosettes, tip_point, spoke_on_crack = [], [], []
+    rosettes, tip_point, spoke_on_crack, holes = [], [], [], []
     tip_of = {(t.fracture, t.end): k for k, t in enumerate(plan.tips)}
     for t in plan.tips:
-        phi0 = math.atan2(t.back[1], t.back[0])
         centre = geo.addPoint(t.x[0], t.x[1], 0.0)
+        if not meshed(t.x):  # the other half's tip: a point for the size field only
+            tip_point.append((centre, None))
+            spoke_on_crack.append(None)
+            continue
+        phi0 = math.atan2(t.back[1], t.back[0])
         ring_pts = []
         for k in range(sectors):
             phi = phi0 + 2.0 * math.pi * k / sectors
@@ -445,7 +464,7 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes
         for k in range(sectors):
             loop = geo.addCurveLoop([spokes[k], chords[k], -spokes[(k + 1) % sectors]])
             rosettes.append((geo.addPlaneSurface([loop]), (centre, ring_pts[k], ring_pts[(k + 1) % sectors])))
-        loops.append(geo.addCurveLoop(chords))
+        holes.append(geo.addCurveLoop(chords))
         tip_point.append((centre, ring_pts[0]))
         spoke_on_crack.append(spokes[0])
         for c in spokes + chords:
@@ -459,7 +478,7 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes
         for end, i in ((0, 0), (1, len(pts) - 1)):
             if (f, end) in plan.mouth_anchor:
                 tags[i] = anchor_tag[plan.mouth_anchor[(f, end)]]
-            elif (f, end) in tip_of:
+            elif (f, end) in tip_of and spoke_on_crack[tip_of[(f, end)]] is not None:
                 tags[i] = tip_point[tip_of[(f, end)]][1]
         joined = {0 if end == 0 else len(pts) - 1 for (g, end) in plan.junction if g == f}
         for i in range(len(pts)):
@@ -469,32 +488,133 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes
     for (f, end), (g, vertex) in plan.junction.items():
         vertex_tags[f][0 if end == 0 else -1] = vertex_tags[g][vertex]
     crack_curves: list[tuple[int, int, np.ndarray]] = []  # (curve, fracture, d)
+    elsewhere: list[int] = []  # the other half's crack curves (size field only)
     for f, pts in enumerate(plan.fractures):
         tags = vertex_tags[f]
-        if (f, 0) in tip_of:
-            k = tip_of[(f, 0)]
-            crack_curves.append((spoke_on_crack[k], f, pts[1] - pts[0]))
+        if (f, 0) in tip_of and spoke_on_crack[tip_of[(f, 0)]] is not None:
+            crack_curves.append((spoke_on_crack[tip_of[(f, 0)]], f, pts[1] - pts[0]))
         for s in range(len(pts) - 1):
-            crack_curves.append((geo.addLine(tags[s], tags[s + 1]), f, pts[s + 1] - pts[s]))
-        if (f, 1) in tip_of:
-            k = tip_of[(f, 1)]
-            crack_curves.append((spoke_on_crack[k], f, pts[-1] - pts[-2]))
+            line = geo.addLine(tags[s], tags[s + 1])
+            if meshed(0.5 * (pts[s] + pts[s + 1])):
+                crack_curves.append((line, f, pts[s + 1] - pts[s]))
+            else:
+                elsewhere.append(line)
+        if (f, 1) in tip_of and spoke_on_crack[tip_of[(f, 1)]] is not None:
+            crack_curves.append((spoke_on_crack[tip_of[(f, 1)]], f, pts[-1] - pts[-2]))
 
-    surface = geo.addPlaneSurface(loops)
+    divider: list[int] = []
+    if half is not None:  # from R(p) through the crossings and the centre to p
+        tags = [_divider_point(plan, anchor_tag, vertex_tags, geo, q) for q in half.points]
+        divider = [geo.addLine(a, b) for a, b in zip(tags[:-1], tags[1:])]
+        outer += divider
+    surface = geo.addPlaneSurface([geo.addCurveLoop(outer)] + holes)
     for s, corners in rosettes:
         geo.mesh.setTransfiniteSurface(s, "Left", list(corners))
     geo.synchronize()
+    if half is not None:  # the divider's second half mirrors its first, node for node
+        cx, cy = half.center
+        turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+        m = len(divider) // 2
+        for k in range(m):
+            gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
     embedded = [c for c, _, _ in crack_curves if c not in set(spoke_on_crack)]
     if embedded:
         gmsh.model.mesh.embed(1, embedded, 2, surface)
 
-    _size_field(plan, [centre for centre, _ in tip_point], embedded, size, tip_size, sectors, sizes)
+    _size_field(plan, [centre for centre, _ in tip_point], embedded + elsewhere, size, tip_size, sectors,
+                sizes, None if half is None else half.center)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     if size_at is not None:
-        gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z: float(size_at(x, y)))
+        if half is None:
+            gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z: float(size_at(x, y)))
+        else:
+            cx, cy = half.center
+            gmsh.model.mesh.setSizeCallback(
+                lambda dim, tag, x, y, z: float(min(size_at(x, y), size_at(2 * cx - x, 2 * cy - y)))
+            )
     gmsh.model.mesh.generate(2)
     gmsh.model.mesh.setOrder(2)
-    return _extract(plan, boundary_curves, crack_curves, tip_point, anchor_tag)
+    points = [anchor_tag[a] for a in plan.point_anchor]
+    if half is not None:  # a bc point of the other half: the node of its image, mapped back by _glue
+        points = [tag if half.left(plan.anchors[a][2]) else
+                  _anchor_at(plan, anchor_tag, point_symmetry.rotate(plan.anchors[a][2], half.center))
+                  for tag, a in zip(points, plan.point_anchor)]
+    return _extract(boundary_curves, crack_curves, tip_point, points, divider)
+
+
+def _boundary_ring(domain, plan, geo, anchor_tag) -> list[tuple[int, str]]:
+    """The outer boundary's points counter-clockwise, each with the name of the
+    boundary curve that starts at it (a disc's arcs are filled to <= pi/2)."""
+    if domain.shape == "disc":
+        angles = [(t, tag) for (_, t, _), tag in zip(plan.anchors, anchor_tag)]
+        return [(tag, "rim") for _, tag in _fill_arc_gaps(sorted(angles), domain, geo)]
+    corners, names = domain.vertices(), domain.edge_names()
+    tol = ON_BOUNDARY * domain.length_scale()
+    ring = []
+    for i, corner in enumerate(corners):
+        on_corner = [k for k, (_, _, p) in enumerate(plan.anchors) if np.linalg.norm(p - corner) <= tol]
+        ring.append((anchor_tag[on_corner[0]] if on_corner else geo.addPoint(*corner, 0.0), names[i]))
+        inner = sorted(
+            (t, anchor_tag[k])
+            for k, (e, t, p) in enumerate(plan.anchors)
+            if e == i and k not in on_corner and np.linalg.norm(p - corners[(i + 1) % len(corners)]) > tol
+        )
+        ring.extend((tag, names[i]) for _, tag in inner)
+    return ring
+
+
+def _anchor_at(plan, anchor_tag, p) -> int:
+    k = int(np.argmin([np.linalg.norm(a - p) for _, _, a in plan.anchors]))
+    return anchor_tag[k]
+
+
+def _divider_point(plan, anchor_tag, vertex_tags, geo, q) -> int:
+    """The point tag at divider vertex q: an anchor (its ends), a fracture
+    vertex (a crossing, inserted with q's coordinates), or a new point (the
+    centre off every fracture)."""
+    for k, (_, _, a) in enumerate(plan.anchors):
+        if np.array_equal(a, q):
+            return anchor_tag[k]
+    for f, pts in enumerate(plan.fractures):
+        hit = np.flatnonzero(np.all(pts == q, axis=1))
+        if len(hit):
+            return vertex_tags[f][int(hit[0])]
+    return geo.addPoint(q[0], q[1], 0.0)
+
+
+def _with_divider(domain, plan: _Plan, half) -> _Plan:
+    """The plan of a point-symmetric geometry: the divider's crossings become
+    fracture vertices, its ends and every anchor's image become anchors."""
+    tol = ON_BOUNDARY * domain.length_scale()
+    fractures, junction = point_symmetry.insert_divider(plan.fractures, plan.junction, half, tol)
+    anchors = list(plan.anchors)
+
+    def add(p) -> np.ndarray:
+        for _, _, a in anchors:
+            if np.linalg.norm(a - p) <= tol:
+                return a
+        q, edge, t = domain.project(p)
+        anchors.append((edge, t, q))
+        return q
+
+    for _, _, a in plan.anchors:
+        add(point_symmetry.rotate(a, half.center))
+    half.points[0], half.points[-1] = add(half.points[0]), add(half.points[-1])
+    return dataclasses.replace(plan, fractures=fractures, junction=junction, anchors=anchors)
+
+
+def _glue(domain, plan: _Plan, half, raw: dict) -> dict:
+    """The whole mesh from gmsh's mesh of the left half and its image."""
+    tol = 1e-9 * domain.length_scale()
+    tip_image = []
+    for t in plan.tips:
+        if half.left(t.x):
+            tip_image.append(-1)
+        else:
+            image = point_symmetry.rotate(t.x, half.center)
+            tip_image.append(int(np.argmin([np.linalg.norm(o.x - image) for o in plan.tips])))
+    point_image = [-1 if half.left(plan.anchors[a][2]) else k for k, a in enumerate(plan.point_anchor)]
+    return point_symmetry.glue(raw, half, domain, tip_image, point_image, raw["crack_fracture"], tol)
 
 
 def _fill_arc_gaps(angles, domain, geo):
@@ -516,10 +636,11 @@ def _rim_point(angle, domain, geo) -> int:
     return geo.addPoint(p[0], p[1], 0.0)
 
 
-def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, sizes=None):
+def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, sizes=None, center=None):
     """h = min(size, h_ring + GRADING (r - h_tip), h_crack + GRADING dist, sizes): the rosette
     chord length at each ring, the crack size on the fracture, growing linearly; and the
-    given size field (linear on its triangles), never below tip_size."""
+    given size field (linear on its triangles), never below tip_size. With a `center`
+    the size field is made point-symmetric: sizes also bounds at the images 2 center - x."""
     import gmsh
 
     field = gmsh.model.mesh.field
@@ -551,12 +672,15 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
         keep = vals.min(axis=1) < size
         tri, vals = tri[keep], vals[keep]
         m = len(tri)
-        data = np.concatenate([tri[:, :, 0], tri[:, :, 1], np.zeros((m, 3)), vals], axis=1)
-        view = gmsh.view.add("sizes")
-        gmsh.view.addListData(view, "ST", m, data.ravel().tolist())
-        v = field.add("PostView")
-        field.setNumber(v, "ViewTag", view)
-        parts.append(v)
+        for copy in (tri, None if center is None else 2.0 * np.asarray(center) - tri):
+            if copy is None:
+                continue
+            data = np.concatenate([copy[:, :, 0], copy[:, :, 1], np.zeros((m, 3)), vals], axis=1)
+            view = gmsh.view.add("sizes")
+            gmsh.view.addListData(view, "ST", m, data.ravel().tolist())
+            v = field.add("PostView")
+            field.setNumber(v, "ViewTag", view)
+            parts.append(v)
     m = field.add("Min")
     field.setNumbers(m, "FieldsList", parts)
     field.setAsBackgroundMesh(m)
@@ -578,7 +702,11 @@ def _threshold(distance_field, h0, size, d0, grading=GRADING):
 # -- 3. read the mesh back ---------------------------------------------------------
 
 
-def _extract(plan, boundary_curves, crack_curves, tip_point, anchor_tag) -> dict:
+def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -> dict:
+    """The mesh as arrays. tip_point: (centre, corner) point tags of each tip,
+    corner None for a tip not meshed here (its nodes are -1); point_tags: of
+    each bc point, None likewise; divider: curves whose nodes are returned as
+    "divider_nodes"."""
     import gmsh
 
     mesh = gmsh.model.mesh
@@ -618,18 +746,22 @@ def _extract(plan, boundary_curves, crack_curves, tip_point, anchor_tag) -> dict
         c_frac += [f] * len(e)
 
     def point_node(tag) -> int:
+        if tag is None:
+            return -1
         return int(index(mesh.getNodes(0, tag, returnParametricCoord=False)[0])[0])
 
+    on_divider = [curve_edges(c).ravel() for c in divider]
     return {
+        "divider_nodes": np.unique(np.concatenate(on_divider)) if on_divider else np.zeros(0, np.int64),
         "x": x,
         "cells": cells,
         "boundary_edges": np.concatenate(b_edges).astype(np.int64),
         "boundary_name": b_names,
         "crack_edges": np.concatenate(c_edges).astype(np.int64) if c_edges else np.zeros((0, 3), np.int64),
         "crack_fracture": np.array(c_frac, dtype=np.int64),
-        "tip_node": [point_node(centre) for centre, _ in tip_point],
+        "tip_node": [point_node(centre if r0 is not None else None) for centre, r0 in tip_point],
         "tip_corner": [point_node(r0) for _, r0 in tip_point],
-        "point_nodes": np.array([point_node(anchor_tag[a]) for a in plan.point_anchor], dtype=np.int64),
+        "point_nodes": np.array([point_node(tag) for tag in point_tags], dtype=np.int64),
     }
 
 

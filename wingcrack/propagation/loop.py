@@ -318,7 +318,7 @@ def _record(out, k, lam, cm, problem, contact, tips, timer, solves, states=None,
     if states is not None:
         for i, td in enumerate(step["tips"]):
             td["state"], td["advance"] = states[i], advances[i]
-    step["mesh"] = {n: cm.stats[n] for n in ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried")}
+    step["mesh"] = {n: cm.stats[n] for n in ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried", "symmetric")}
     step["solves"] = solves
     if out is not None:
         _write_step_fields(out, k, lam, cm, problem, contact)
