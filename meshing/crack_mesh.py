@@ -35,7 +35,7 @@ import numpy as np
 
 from meshing import point_symmetry
 from meshing.domain import Domain
-from meshing.timeout import MeshTimeout, run_with_timeout
+from meshing.timeout import MeshTimeout, call_with_timeout
 
 # gmsh and wingcrack._kernels are imported inside the functions that use them:
 # `import meshing` (for Domain, in the case checker) must stay light.
@@ -137,16 +137,23 @@ def crack_mesh(
 
     t0 = time.perf_counter()
 
+    mirror_sizes = False
+    if half is not None and sizes is not None:
+        halved = point_symmetry.sizes_for_half(*sizes, half, ON_BOUNDARY * domain.length_scale())
+        mirror_sizes = halved is None  # not symmetric: bound by the field and its image
+        sizes = sizes if halved is None else halved
+
     def attempt(coarsen: float, algorithm: int):
         scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
-        return lambda: _gmsh_session(domain, plan, size, tip_size, sectors, size_at, scaled, half, algorithm)
+        args = (domain, plan, size, tip_size, sectors, size_at, scaled, half, mirror_sizes, algorithm)
+        return call_with_timeout(_gmsh_session, args, timeout)
 
     retried = False
     try:
-        raw = run_with_timeout(attempt(1.0, 6), timeout)
+        raw = attempt(1.0, 6)
     except MeshTimeout:
         retried = True  # once: coarser sizes, Delaunay instead of Frontal-Delaunay
-        raw = run_with_timeout(attempt(1.5, 5), timeout)
+        raw = attempt(1.5, 5)
     t_gmsh = time.perf_counter() - t0
     if half is not None:
         raw = _glue(domain, plan, half, raw)
@@ -401,20 +408,21 @@ def _point_segment_distance(p, a, b) -> float:
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _gmsh_session(domain, plan, size, tip_size, sectors, size_at, sizes, half, algorithm) -> dict:
+def _gmsh_session(domain, plan, size, tip_size, sectors, size_at, sizes, half, mirror_sizes, algorithm) -> dict:
     import gmsh
 
     gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm, half)
+        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm, half, mirror_sizes)
     except Exception as error:  # gmsh raises bare Exception
         raise RuntimeError(f"gmsh could not mesh the domain: {error}") from error
     finally:
         gmsh.finalize()
 
 
-def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes, algorithm, half=None) -> dict:
+def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes, algorithm, half=None,
+                    mirror_sizes=False) -> dict:
     """The mesh of the whole domain, or with `half` (a point_symmetry.Half) of
     the half on the left of the divider only; the other half's tips and crack
     curves are then free geometry that only shapes the size field."""
@@ -522,7 +530,7 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes
         gmsh.model.mesh.embed(1, embedded, 2, surface)
 
     _size_field(plan, [centre for centre, _ in tip_point], embedded + elsewhere, size, tip_size, sectors,
-                sizes, None if half is None else half.center)
+                sizes, half.center if mirror_sizes else None)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     if size_at is not None:
         if half is None:

@@ -1,9 +1,11 @@
-"""Run a function in a forked child process under a wall-clock limit.
+"""Run a function in another process under a wall-clock limit.
 
 gmsh's meshers can loop forever on awkward geometry (the published code of
 the paper hangs at step 35 of the 45-degree disc), and a C++ loop cannot be
 interrupted from Python. The child does the work and sends back its pickled
 result; on timeout it is killed (SIGKILL) and `MeshTimeout` is raised.
+`call_with_timeout` uses the long-lived meshing process (meshing/worker.py)
+for module-level functions and falls back to a forked child for closures.
 """
 from __future__ import annotations
 
@@ -96,3 +98,19 @@ def run_with_timeout(fn: Callable[[], object], timeout: float | None):
     if kind == "error":
         raise RuntimeError(value)
     return value
+
+
+def call_with_timeout(fn: Callable, args: tuple, timeout: float | None):
+    """fn(*args) under the time limit: in the long-lived meshing process when
+    fn and args pickle by reference, else in a forked child (run_with_timeout);
+    in-process when `timeout` is None."""
+    if timeout is None:
+        return fn(*args)
+    from meshing import worker
+
+    try:
+        return worker.call(fn, args, timeout)
+    except worker.NotPicklable:
+        return run_with_timeout(lambda: fn(*args), timeout)
+    except worker.WorkerTimeout as error:
+        raise MeshTimeout(str(error)) from None

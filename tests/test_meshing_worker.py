@@ -1,0 +1,61 @@
+"""The long-lived meshing process (meshing/worker.py) behind every timed mesh:
+results and errors come back as from an in-process call, a call past its
+time limit kills the worker and the next call gets a new one, closures fall
+back to a forked child, and the worker neither sees the caller's Ctrl-C
+(own session) nor outlives the caller."""
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from meshing import worker
+from meshing.timeout import MeshTimeout, call_with_timeout
+
+
+def test_results_errors_and_timeouts():
+    assert call_with_timeout(np.arange, (5,), 30.0).tolist() == [0, 1, 2, 3, 4]
+    first = worker._worker.proc.pid
+    with pytest.raises(RuntimeError, match="ValueError: invalid literal"):
+        call_with_timeout(int, ("x",), 30.0)
+    assert worker._worker.proc.pid == first   # an error does not cost the worker
+    t0 = time.perf_counter()
+    with pytest.raises(MeshTimeout, match="did not finish within 0.5 s"):
+        call_with_timeout(time.sleep, (30,), 0.5)
+    assert time.perf_counter() - t0 < 5 and worker._worker is None
+    assert call_with_timeout(sum, ([1, 2, 3],), 30.0) == 6     # a new worker
+    assert worker._worker.proc.pid != first
+    # the worker is in its own session: Ctrl-C at the terminal is the caller's alone
+    assert os.getsid(worker._worker.proc.pid) != os.getsid(0)
+
+
+def test_closures_run_in_a_forked_child():
+    big = np.arange(1000)
+    assert call_with_timeout(lambda n: int(big[:n].sum()), (10,), 30.0) == 45
+    with pytest.raises(MeshTimeout):
+        call_with_timeout(lambda: time.sleep(30), (), 0.5)
+
+
+def test_the_worker_dies_with_its_caller():
+    code = ("import sys, time; from meshing import worker; worker.call(sum, ([1],), 30); "
+            "print(worker._worker.proc.pid, flush=True); time.sleep(60)")
+    caller = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    pid = int(caller.stdout.readline())
+    caller.kill()
+    caller.wait()
+    for _ in range(50):
+        if not alive(pid):
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"worker {pid} outlived its caller")
+
+
+def alive(pid) -> bool:
+    """Running (a zombie waiting for a reaper that may never come is dead)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
