@@ -199,6 +199,33 @@ def _boundary_hit(domain, c, u) -> np.ndarray:
     return c + best * u
 
 
+def sizes_for_half(tri, vals, half: Half, tol: float):
+    """The size field (triangles (m, 3, 2), values (m, 3)) made point-symmetric,
+    min(h(x), h(R x)), on the triangles that reach the meshed half; None when
+    the triangles themselves are not point-symmetric (the caller then bounds
+    the sizes by the field and its image)."""
+    from scipy.spatial import cKDTree
+
+    tri = np.asarray(tri, dtype=np.float64)
+    vals = np.asarray(vals, dtype=np.float64).reshape(len(tri), 3)
+    if not len(tri):
+        return None
+    cen = tri.mean(axis=1)
+    d, j = cKDTree(cen).query(rotate(cen, half.center))
+    if d.max() > tol:
+        return None
+    image = rotate(tri[j], half.center)
+    dist = np.linalg.norm(tri[:, :, None, :] - image[:, None, :, :], axis=3)  # vertex k of i vs l of j
+    pick = dist.argmin(axis=2)
+    if np.take_along_axis(dist, pick[..., None], 2).max() > tol:
+        return None
+    sym = np.minimum(vals, np.take_along_axis(vals[j], pick, 1))
+    rel = tri - half.center
+    side = half.u[0] * rel[..., 1] - half.u[1] * rel[..., 0]
+    keep = np.any(side >= -tol, axis=1)  # a triangle holding a point of the half has a vertex there
+    return tri[keep], sym[keep]
+
+
 def insert_divider(polylines, junction, half: Half, tol: float):
     """Insert the divider's crossings into the fractures. Returns (polylines,
     junction with host vertex indices shifted)."""

@@ -99,3 +99,29 @@ def test_what_counts_as_symmetric():
             for t in np.linspace(0, 2 * np.pi, 16, endpoint=False)]
     tips = [(p[k], 0.01) for p in ring for k in (0, 1)]
     assert find_half(domain, ring, tips, [], 0.01) is None
+
+
+def test_size_field_of_a_symmetric_mesh_is_made_symmetric_and_halved():
+    """sizes_for_half: the previous step's size field (linear on the previous
+    mesh's triangles) becomes min(h(x), h(R x)), exactly, on the triangles
+    that reach the meshed half; every vertex on that side stays covered."""
+    from meshing.point_symmetry import find_half, rotate, sizes_for_half
+
+    domain, fractures = disc_with_wings()
+    mesh = crack_mesh(domain, fractures, [], 0.004, 0.0005, sectors=32)
+    x = np.asarray(mesh.x)
+    tri = x[mesh.cells[:, :3]]
+    vals = 0.001 + 0.01 * (tri[..., 0] + 0.3 * tri[..., 1] + 0.1)   # not symmetric: h(R x) != h(x)
+    a, b = (t for t in mesh.tips)
+    half = find_half(domain, fractures, [(a.x, a.h), (b.x, b.h)], [], 0.0005)
+    kept, sym = sizes_for_half(tri, vals, half, 1e-12)
+    # min(h(x), h(-x)) = 0.001 + 0.01 (0.1 - |x + 0.3 y|)
+    np.testing.assert_allclose(sym, 0.001 + 0.01 * (0.1 - np.abs(kept[..., 0] + 0.3 * kept[..., 1])), rtol=1e-12)
+    assert len(tri) / 2 <= len(kept) < 0.6 * len(tri)
+    side = lambda p: half.u[0] * p[..., 1] - half.u[1] * p[..., 0]   # noqa: E731
+    on_side = tri[side(tri) > 0]
+    covered = {tuple(v) for v in kept.reshape(-1, 2).round(15)}
+    assert all(tuple(v) in covered for v in on_side.round(15))
+    # a field on triangles that do not mirror is refused (the caller bounds by both)
+    assert sizes_for_half(tri[: len(tri) // 3], vals[: len(tri) // 3], half, 1e-12) is None
+    assert rotate(np.array([1.0, 2.0]), [0.5, 0.5]).tolist() == [0.0, -1.0]
