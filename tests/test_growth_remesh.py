@@ -7,6 +7,7 @@ quarter points at h/4); the cell count of uniform meshes at `size` and at
 `tip_size` (bounds any graded mesh between them); the boundary line x = W/2.
 """
 import numpy as np
+import pytest
 
 import wingcrack.api as api
 from builders import square_plate_with_cracks
@@ -90,3 +91,25 @@ def test_every_remesh_is_valid(monkeypatch):
             np.testing.assert_allclose(cm.x[quarter], 0.75 * t.x + 0.25 * cm.x[corner], atol=1e-12 * h)
     # the error-estimate sizes change the mesh between steps (adaptive is on)
     assert len({len(cm.cells) for cm in meshes}) > 1
+
+
+def test_a_tip_curling_back_onto_its_own_wing_is_seen_before_the_mesher():
+    """The join test of a growing tip covers its own polyline up to the segment
+    at the tip (that one becomes the new tip's neighbour). A wing curling back
+    within reach of the segment before its last one used to go unnoticed and
+    the mesher refused the geometry ('failed' at step 33 of
+    three_fractures_slip.toml). Reference: crack_mesh's own rosette check
+    refuses the geometry that a plain step would have made."""
+    from meshing import Domain, crack_mesh
+    from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
+    from wingcrack.propagation.joining import place_tip
+
+    h = 0.05
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.05]])
+    f = GrowingFracture(pts, (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
+    domain = Domain("rectangle", corner=[-2.0, -2.0], size=[4.0, 4.0])
+    d = np.array([-1.0, 0.0])   # a 90-degree kink: clear of the neighbour, 1.0 h from the first segment
+    p, state = place_tip(FractureSet([f]), 0, 1, d, h, domain, 1.5 * h)
+    assert state == "joined" and abs(p[1]) < 1e-12 and 0.0 < p[0] < 1.0   # on its own first segment
+    with pytest.raises(ValueError, match="closer than 1.5 tip_size to segment 0 of fracture 0"):
+        crack_mesh(domain, [np.vstack([pts, pts[-1] + h * d])], [], size=0.5, tip_size=h)

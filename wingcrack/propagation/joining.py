@@ -84,7 +84,10 @@ def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: 
     for i, g in enumerate(fset.fractures):
         pts = g.points
         if i == fi:
-            pts = pts[:-2] if end == 1 else pts[2:]
+            # all of its own polyline but the segment at the tip: after the step
+            # that segment is the new tip's neighbour, the one before it is the
+            # mesher's (crack_mesh._check_rosettes_fit) like any other fracture
+            pts = pts[:-1] if end == 1 else pts[1:]
             if len(pts) < 2:
                 continue
         dist, point, _, _ = K.closest_point_on_polyline(b, pts)
