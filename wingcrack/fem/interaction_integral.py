@@ -72,9 +72,15 @@ class InteractionIntegral:
         # P_j = sigma_ij du^a_i/dx1 + sigma^a_ij du_i/dx1 - W^{int} delta_1j
         P = ufl.dot(sig.T, du_a[:, 0]) + ufl.dot(sig_a.T, du[:, 0]) - ufl.inner(sig, eps_a) * e1
         integrand = ufl.dot(P, dq) - ufl.dot(b, du_a[:, 0]) * self.q
+        self.integrand = integrand
+        self.quadrature_degree = quadrature_degree
         dx = ufl.Measure("dx", domain=msh, metadata={"quadrature_degree": quadrature_degree})
         self.form = fem.form(integrand * dx)
         self.Eprime = E if plane == "stress" else E / (1 - nu * nu)
+        # vertex coordinates of every local cell, to integrate near each tip only
+        tdim = msh.topology.dim
+        n_local = msh.topology.index_map(tdim).size_local
+        self._cell_x = msh.geometry.x[msh.geometry.dofmap.array.reshape(-1, 6)[:n_local, :3], :2]
 
     def sifs(self, tip_xy, ex, ey, r_in: float, r_out: float) -> tuple[float, float]:
         """(K_I, K_II) at one tip; q = 1 for r <= r_in, 0 for r >= r_out."""
@@ -87,10 +93,26 @@ class InteractionIntegral:
             return np.clip((r_out - d) / (r_out - r_in), 0.0, 1.0)
 
         self.q.interpolate(weight)
+        form = self._form_near(tip_xy, r_out)
         comm = self.problem.fm.mesh.comm
         out = []
         for mode in ([1.0, 0.0], [0.0, 1.0]):
             self.mode.value[:] = mode
-            local = fem.assemble_scalar(self.form)
+            local = fem.assemble_scalar(form)
             out.append(comm.allreduce(local) * self.Eprime / 2.0)
         return out[0], out[1]
+
+    def _form_near(self, tip_xy, r_out):
+        """The form on the cells with a vertex closer than r_out to the tip:
+        elsewhere q (P1, vertex dofs) and its gradient vanish, so the
+        integral is the same, at a fraction of the cost (the whole mesh
+        was integrated twice per tip: 24 % of a five-fracture step)."""
+        from dolfinx.mesh import meshtags
+
+        msh = self.problem.fm.mesh
+        d = np.linalg.norm(self._cell_x - np.asarray(tip_xy)[None, None, :], axis=2)
+        cells = np.flatnonzero(d.min(axis=1) < r_out).astype(np.int32)
+        tags = meshtags(msh, msh.topology.dim, cells, np.ones(len(cells), dtype=np.int32))
+        dx = ufl.Measure("dx", domain=msh, subdomain_data=tags,
+                         metadata={"quadrature_degree": self.quadrature_degree})
+        return fem.form(self.integrand * dx(1))
