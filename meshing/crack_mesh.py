@@ -622,7 +622,7 @@ def _glue(domain, plan: _Plan, half, raw: dict) -> dict:
             image = point_symmetry.rotate(t.x, half.center)
             tip_image.append(int(np.argmin([np.linalg.norm(o.x - image) for o in plan.tips])))
     point_image = [-1 if half.left(plan.anchors[a][2]) else k for k, a in enumerate(plan.point_anchor)]
-    return point_symmetry.glue(raw, half, domain, tip_image, point_image, raw["crack_fracture"], tol)
+    return point_symmetry.glue(raw, half, domain, tip_image, point_image, tol)
 
 
 def _fill_arc_gaps(angles, domain, geo):

@@ -251,8 +251,7 @@ def insert_divider(polylines, junction, half: Half, tol: float):
     return out, junction
 
 
-def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[int],
-         crack_in_half: np.ndarray, tol: float) -> dict:
+def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[int], tol: float) -> dict:
     """The whole mesh from the mesh of one half (gmsh's raw dict): every node
     of the half but those on the divider gets an image R(x); cells, boundary
     and crack edges are copied through the node map.
@@ -260,7 +259,7 @@ def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[
     raw must carry "divider_nodes" (indices of the nodes on the divider);
     tip_image / point_image: for every tip / bc point of the plan, -1 when it
     is in the meshed half (its node is in raw), else the index of the tip /
-    point whose image it is; crack_in_half: fracture of each raw crack edge."""
+    point whose image it is."""
     x = raw["x"]
     n = len(x)
     on_div = np.asarray(raw["divider_nodes"], dtype=np.int64)
@@ -288,7 +287,7 @@ def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[
         names.append(name)
 
     ce = raw["crack_edges"]
-    frac = np.asarray(crack_in_half, dtype=np.int64)
+    frac = np.asarray(raw["crack_fracture"], dtype=np.int64)
     img_frac = np.array([half.fracture_image[f][0] for f in frac], dtype=np.int64)
     flip = np.array([half.fracture_image[f][1] for f in frac], dtype=bool)
     ce_img = image_of[ce]

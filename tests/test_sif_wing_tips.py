@@ -70,7 +70,8 @@ def test_interaction_integral_near_the_tip_equals_the_whole_mesh_one(monkeypatch
     m = case.material
     M = InteractionIntegral(sol.problem, m.E, m.nu, m.plane, case.stress.tensor())
     near = [M.sifs(t.x, t.ex, t.ey, t.h, 4 * t.h) for t in sol.cm.tips]
-    monkeypatch.setattr(InteractionIntegral, "_form_near", lambda self, tip, r: self.form)
+    near_only = InteractionIntegral._form_near
+    monkeypatch.setattr(InteractionIntegral, "_form_near", lambda self, tip, r: near_only(self, tip, np.inf))
     full = [M.sifs(t.x, t.ex, t.ey, t.h, 4 * t.h) for t in sol.cm.tips]
     scale = max(abs(v) for f in full for v in f)
     assert np.allclose(near, full, rtol=1e-12, atol=1e-12 * scale)

@@ -155,7 +155,9 @@ class ElasticProblem:
             self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)
         pc = self.solver.getPC()
         pc.setFactorSetUpSolverType()
-        # Null-pivot detection (a free piece of the body): a pivot below 1e-12 ||K|| is null.
+        # Null-pivot detection, a second line behind wingcrack.free_pieces (which finds free
+        # pieces exactly, before this): it caught a wholly free piece here, but not one held at a
+        # single point and free to rotate (no threshold up to 1e-6 flagged that). A pivot below 1e-12 ||K|| is null.
         # A well-posed mesh's smallest pivot is >= lambda_min(K) ~ ||K|| (h_min / L)^2, above
         # 1e-10 ||K|| for L / h_min up to 1e5; round-off pivots of a free piece are ~1e-16 ||K||.
         F = pc.getFactorMatrix()

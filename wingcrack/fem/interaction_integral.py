@@ -74,8 +74,6 @@ class InteractionIntegral:
         integrand = ufl.dot(P, dq) - ufl.dot(b, du_a[:, 0]) * self.q
         self.integrand = integrand
         self.quadrature_degree = quadrature_degree
-        dx = ufl.Measure("dx", domain=msh, metadata={"quadrature_degree": quadrature_degree})
-        self.form = fem.form(integrand * dx)
         self.Eprime = E if plane == "stress" else E / (1 - nu * nu)
         # vertex coordinates of every local cell, to integrate near each tip only
         tdim = msh.topology.dim
