@@ -8,7 +8,7 @@ One call builds the whole mesh of one step (paper sections 3.1-3.3):
    of radius `tip_size` (one spoke along the crack), the rest unstructured,
    graded from ~`tip_size` at the tips to `size` away from the fractures;
 3. second order (mid nodes on the disc rim lie on the circle);
-4. the crack faces split apart (`wingcrack._kernels.split_faces`): each node on
+4. the crack faces split apart (`wingcrack_kernels.split_faces`): each node on
    a crack face gets one copy per side, and the copies are paired for contact;
 5. the mid nodes of the edges at each tip moved to the quarter points.
 
@@ -37,7 +37,7 @@ from meshing import point_symmetry
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout, call_with_timeout
 
-# gmsh and wingcrack._kernels are imported inside the functions that use them:
+# gmsh and wingcrack_kernels are imported inside the functions that use them:
 # `import meshing` (for Domain, in the case checker) must stay light.
 
 # Size growth per element layer away from tips and fractures: h(d) = h0 + GRADING * d
@@ -119,7 +119,7 @@ def crack_mesh(
     Raises ValueError for geometry that cannot be meshed as asked, RuntimeError
     when gmsh fails or a cell comes out inverted.
     """
-    from wingcrack import _kernels
+    import wingcrack_kernels as _kernels
 
     t_start = time.perf_counter()
     # 16 or more is what displacement correlation needs; fewer (down to 8)
