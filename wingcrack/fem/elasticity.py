@@ -109,8 +109,8 @@ class ElasticProblem:
     # -- boundary conditions ----------------------------------------------
     def _node_dofs(self, node: int) -> np.ndarray:
         """Local block dofs of CrackMesh node `node` on this rank (may be empty)."""
-        local = np.flatnonzero(self.fm.original == node)
-        return np.unique(self.fm.node_dof[local])
+        found, blk = self.fm.block_dofs([node])
+        return blk[found]
 
     def _dirichlet(self, loads: Loads):
         V, msh = self.fm.V, self.fm.mesh

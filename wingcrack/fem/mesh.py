@@ -31,6 +31,21 @@ class FEMesh:
     num_dofs: int          # global scalar dofs
     num_cells: int         # global cells
 
+    def block_dofs(self, nodes) -> tuple[np.ndarray, np.ndarray]:
+        """Where the CrackMesh `nodes` are on this rank: (found (k,) bool,
+        block dof in V (k,), -1 where not found). A node is on every rank
+        that owns or ghosts it."""
+        nodes = np.asarray(nodes, dtype=np.int64).ravel()
+        found = np.zeros(len(nodes), dtype=bool)
+        blk = np.full(len(nodes), -1, dtype=self.node_dof.dtype)
+        if len(self.original) and len(nodes):
+            order = np.argsort(self.original)
+            pos = np.minimum(np.searchsorted(self.original, nodes, sorter=order), len(order) - 1)
+            local = order[pos]
+            found = self.original[local] == nodes
+            blk[found] = self.node_dof[local[found]]
+        return found, blk
+
 
 def _coordinate_domain() -> ufl.Mesh:
     return ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 2))
