@@ -19,7 +19,7 @@ from dolfinx import fem
 from dolfinx.fem import petsc as fpetsc
 from petsc4py import PETSc
 
-from .material import lame
+from ..material import lame
 
 
 @dataclass
