@@ -23,8 +23,8 @@ from scipy import linalg, sparse
 
 
 BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
-#: MUMPS ICNTL(27), right-hand sides treated together in the solve phase:
-#: 64 took 2.64 s for 69 columns at 311k DOFs on 2 ranks (default -32: 3.96 s, 128: 3.00 s)
+#: MUMPS ICNTL(27), right-hand sides treated together in the solve phase
+#: (the value measured best: README, "Several processes")
 RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
