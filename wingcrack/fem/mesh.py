@@ -8,6 +8,7 @@ node, so tip and pair nodes can be found on any number of ranks.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import ufl
@@ -43,12 +44,18 @@ class FEMesh:
         found = np.zeros(len(nodes), dtype=bool)
         blk = np.full(len(nodes), -1, dtype=self.node_dof.dtype)
         if len(self.original) and len(nodes):
-            order = np.argsort(self.original)
+            order = self._order
             pos = np.minimum(np.searchsorted(self.original, nodes, sorter=order), len(order) - 1)
             local = order[pos]
             found = self.original[local] == nodes
             blk[found] = self.node_dof[local[found]]
         return found, blk
+
+    @cached_property
+    def _order(self) -> np.ndarray:
+        """The permutation that sorts `original`, for block_dofs' binary
+        search; sorted once per mesh, not per lookup."""
+        return np.argsort(self.original)
 
 
 def _coordinate_domain() -> ufl.Mesh:
