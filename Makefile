@@ -8,8 +8,8 @@ export PATH := $(CURDIR)/$(VENV)/bin:/usr/bin:/bin:$(PATH)
 export OMP_NUM_THREADS ?= 1
 
 # libopenblas0-serial: Debian's alternatives then point libblas/liblapack (numpy,
-# scipy, MUMPS) at OpenBLAS instead of the reference BLAS: the factorisation
-# runs ~1.8x and dense solves ~6x faster. Serial: one thread per MPI rank.
+# scipy, MUMPS) at OpenBLAS instead of the reference BLAS (faster: README,
+# Performance). Serial: one thread per MPI rank.
 # openmpi-bin: mpirun, for `mpirun -n N wingcrack run` and its test.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
   libgtest-dev googletest python3-scipy python3-matplotlib python3-pil python3-meshio \
@@ -39,7 +39,7 @@ $(PY):
 $(STAMP): $(PY) $(KERNEL_FILES) requirements-dev.txt constraints.txt
 	$(PY) -m pip install -q -c constraints.txt -r requirements-dev.txt
 	$(PY) -m pip install -q --no-build-isolation --no-deps -c constraints.txt -e .
-	$(PY) -c "import numpy, dolfinx, wingcrack._kernels; assert numpy.__version__.startswith('1.24'), numpy.__version__"
+	$(PY) -c "import numpy, dolfinx, wingcrack_kernels, wingcrack._kernels; assert numpy.__version__.startswith('1.24'), numpy.__version__"
 	touch $@
 
 $(KERNELSPEC): $(STAMP)
@@ -58,8 +58,7 @@ test-cpp: apt
 
 # The same GoogleTest suite built with AddressSanitizer and UBSan (Debug, so
 # Eigen's own index assertions are on too); any finding stops the test with
-# a non-zero exit. On the 2-core machine: 50-110 s to build from scratch,
-# about 7 s to run (the Release suite: 0.6 s).
+# a non-zero exit.
 SANITIZE_ENV := ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 test-cpp-sanitize: apt

@@ -8,7 +8,7 @@ One call builds the whole mesh of one step (paper sections 3.1-3.3):
    of radius `tip_size` (one spoke along the crack), the rest unstructured,
    graded from ~`tip_size` at the tips to `size` away from the fractures;
 3. second order (mid nodes on the disc rim lie on the circle);
-4. the crack faces split apart (`wingcrack._kernels.split_faces`): each node on
+4. the crack faces split apart (`wingcrack_kernels.split_faces`): each node on
    a crack face gets one copy per side, and the copies are paired for contact;
 5. the mid nodes of the edges at each tip moved to the quarter points.
 
@@ -28,7 +28,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,7 +37,7 @@ from meshing import point_symmetry
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout, call_with_timeout
 
-# gmsh and wingcrack._kernels are imported inside the functions that use them:
+# gmsh and wingcrack_kernels are imported inside the functions that use them:
 # `import meshing` (for Domain, in the case checker) must stay light.
 
 # Size growth per element layer away from tips and fractures: h(d) = h0 + GRADING * d
@@ -95,7 +95,6 @@ def crack_mesh(
     size: float,
     tip_size: float,
     sectors: int = 16,
-    size_at: Callable[[float, float], float] | None = None,
     sizes: tuple[np.ndarray, np.ndarray] | None = None,
     timeout: float | None = None,
 ) -> CrackMesh:
@@ -104,8 +103,7 @@ def crack_mesh(
 
     size: element size away from fractures; tip_size: rosette radius h (and
     the distance tip - corner node; a tip whose last segment is shorter gets a
-    rosette of 0.75 times that length); size_at(x, y): optional extra upper
-    bound of the element size (a Python callback, slow: tests only);
+    rosette of 0.75 times that length);
     sizes = (triangles (m, 3, 2), values (m, 3)): an extra upper bound of the
     element size, linear on the given triangles (the error-estimate field of
     the previous step); timeout: seconds gmsh may take (None: no limit); on
@@ -119,7 +117,7 @@ def crack_mesh(
     Raises ValueError for geometry that cannot be meshed as asked, RuntimeError
     when gmsh fails or a cell comes out inverted.
     """
-    from wingcrack import _kernels
+    import wingcrack_kernels as _kernels
 
     t_start = time.perf_counter()
     # 16 or more is what displacement correlation needs; fewer (down to 8)
@@ -145,7 +143,7 @@ def crack_mesh(
 
     def attempt(coarsen: float, algorithm: int):
         scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
-        args = (domain, plan, size, tip_size, sectors, size_at, scaled, half, mirror_sizes, algorithm)
+        args = (domain, plan, size, tip_size, sectors, scaled, half, mirror_sizes, algorithm)
         return call_with_timeout(_gmsh_session, args, timeout)
 
     retried = False
@@ -408,20 +406,20 @@ def _point_segment_distance(p, a, b) -> float:
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _gmsh_session(domain, plan, size, tip_size, sectors, size_at, sizes, half, mirror_sizes, algorithm) -> dict:
+def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm) -> dict:
     import gmsh
 
     gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, size_at, sizes, algorithm, half, mirror_sizes)
+        return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes)
     except Exception as error:  # gmsh raises bare Exception
         raise RuntimeError(f"gmsh could not mesh the domain: {error}") from error
     finally:
         gmsh.finalize()
 
 
-def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes, algorithm, half=None,
+def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm, half=None,
                     mirror_sizes=False) -> dict:
     """The mesh of the whole domain, or with `half` (a point_symmetry.Half) of
     the half on the left of the divider only; the other half's tips and crack
@@ -532,14 +530,6 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, size_at, sizes
     _size_field(plan, [centre for centre, _ in tip_point], embedded + elsewhere, size, tip_size, sectors,
                 sizes, half.center if mirror_sizes else None)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
-    if size_at is not None:
-        if half is None:
-            gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z: float(size_at(x, y)))
-        else:
-            cx, cy = half.center
-            gmsh.model.mesh.setSizeCallback(
-                lambda dim, tag, x, y, z: float(min(size_at(x, y), size_at(2 * cx - x, 2 * cy - y)))
-            )
     gmsh.model.mesh.generate(2)
     gmsh.model.mesh.setOrder(2)
     points = [anchor_tag[a] for a in plan.point_anchor]

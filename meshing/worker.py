@@ -1,10 +1,6 @@
 """A long-lived meshing process, so that gmsh runs under a time limit without
-forking the (large) calling process for every mesh.
-
-Forking a process that holds DOLFINx and PETSc cost ~0.12 s a step on the
-45-degree disc (0.08 s in the child, which copies the pages it touches, and
-0.04 s of copy-on-write faults in the parent afterwards): a quarter of a
-step. The worker is a fresh interpreter (`python -m meshing.worker`),
+forking the (large) calling process, which holds DOLFINx and PETSc, for every
+mesh. The worker is a fresh interpreter (`python -m meshing.worker`),
 started once, in its own session (Ctrl-C is the caller's), dying with its
 caller. A call sends the function (by reference) and its arguments pickled
 on the worker's stdin and reads the pickled result from its stdout; on
@@ -31,7 +27,8 @@ class WorkerTimeout(RuntimeError):
 
 
 class NotPicklable(TypeError):
-    """fn or its arguments cannot be sent to the worker (a local function)."""
+    """fn or its arguments cannot be sent to the worker (a local function, a
+    lambda): refused before anything runs."""
 
 
 class _Worker:
@@ -84,7 +81,7 @@ _worker: _Worker | None = None
 def call(fn, args: tuple, timeout: float):
     """fn(*args) in the worker, within `timeout` seconds. fn must be picklable
     by reference (a module-level function); NotPicklable at once when it is
-    not (the caller may then run it another way)."""
+    not."""
     global _worker
     try:
         payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)

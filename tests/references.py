@@ -16,6 +16,17 @@ def griffith(sigma: float, a: float, beta_deg: float) -> tuple[float, float]:
     return k * np.sin(b) ** 2, k * np.sin(b) * np.cos(b)
 
 
+def kinked_sifs(KI, KII, theta):
+    """(kI, kII) of an infinitesimal kink at angle theta, paper eqs. (15)-(16),
+    in the paper's form with the half and three-half angles: independent of
+    eq. (10) (equivalent_k), so at the MTS angle kII = 0 and kI = K_eq is a
+    real check of mts_angle and equivalent_k."""
+    c1, c3 = np.cos(0.5 * theta), np.cos(1.5 * theta)
+    s1, s3 = np.sin(0.5 * theta), np.sin(1.5 * theta)
+    return (0.25 * (3.0 * c1 + c3) * KI - 0.75 * (s1 + s3) * KII,
+            0.25 * (s1 + s3) * KI + 0.25 * (c1 + 3.0 * c3) * KII)
+
+
 def tada_edge_crack_F(s: float) -> float:
     """Single edge crack of depth a in a strip of width b under remote tension:
     KI = sigma sqrt(pi a) F(a/b), F from Tada, Paris & Irwin (2000), accurate to 0.5% for a/b <= 0.6."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .error_estimate import recovered_stress_error, size_field
-from .fem.cell_stress import cell_stress
+from .fem.cell_stress import whole_mesh_stress
 from .parallel import snap
 
 #: target: the estimated error is this fraction of the stress norm
@@ -35,20 +35,3 @@ def next_sizes(problem, tip_size: float, size: float):
     # of a run on N processes is then the field of one, bit for bit
     return x[cells[:, :3]], snap(per_node[cells[:, :3]], 1e-9 * size)
 
-
-def whole_mesh_stress(problem):
-    """cell_stress of every process's cells, gathered on every process: x by
-    mesher node, cells (mesher node numbers, gmsh order) and their stresses
-    in the mesher's cell order."""
-    fm = problem.fm
-    msh = fm.mesh
-    x, cells, stress = cell_stress(problem)
-    ids = np.asarray(msh.topology.original_cell_index, dtype=np.int64)[:len(cells)]
-    part = (ids, fm.original[cells], stress, fm.original, x)
-    parts = msh.comm.allgather(part) if msh.comm.size > 1 else [part]
-    ids, cells, stress = (np.concatenate([q[i] for q in parts]) for i in range(3))
-    order = np.argsort(ids)
-    nodes = np.concatenate([q[3] for q in parts])
-    xs = np.zeros((nodes.max() + 1, 2))
-    xs[nodes] = np.concatenate([q[4] for q in parts])
-    return xs, np.ascontiguousarray(cells[order]), np.ascontiguousarray(stress[order])

@@ -10,8 +10,8 @@ exact and made before factorising: the connected pieces of the split mesh
 built on K^-1), and for each the rank of the rigid modes restricted to its
 constrained degrees of freedom.
 
-Pure numpy/scipy on the CrackMesh and the fem Loads, identical on every
-process (every process holds the whole crack mesh).
+Pure numpy/scipy on the CrackMesh and the Loads (wingcrack.loads),
+identical on every process (every process holds the whole crack mesh).
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ class FreePiece:
 
 def free_pieces(cm, loads) -> list[FreePiece]:
     """Every connected piece of `cm` whose displacement conditions (loads:
-    fem.elasticity.Loads) leave a rigid-body mode free."""
+    wingcrack.loads.Loads) leave a rigid-body mode free."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 

@@ -1,9 +1,26 @@
-"""From the case's [[bc]], [body] and [stress] tables to the fem layer's Loads."""
+"""From the case's [[bc]], [body] and [stress] tables to Loads, the record the
+fem layer assembles."""
 from __future__ import annotations
+
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fem.elasticity import Loads
+
+@dataclass
+class Loads:
+    """What loads the body, in CrackMesh node indices and boundary tags.
+
+    Entries of the first four lists are multiplied by the load factor; the
+    body force and in-situ stress are not.
+    """
+    point_forces: list = field(default_factory=list)          # (node, fx, fy) N/m
+    point_displacements: list = field(default_factory=list)   # (node, comp, value) m
+    tractions: list = field(default_factory=list)             # (tag, tx, ty) Pa
+    boundary_displacements: list = field(default_factory=list)  # (tag, comp, value) m
+    body_force: tuple = (0.0, 0.0)                             # rho g, N/m^3
+    sigma0: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))  # Pa
+    outer_tags: tuple = ()                                     # every outer boundary tag
 
 
 def case_loads(case, cm) -> Loads:

@@ -10,6 +10,7 @@ import numpy as np
 from . import _kernels as K
 from .fem.interaction_integral import InteractionIntegral
 from .fem.nodal import nodal_displacements
+from .material import kappa
 
 # Outer radius of the interaction-integral domain, in rosette radii; it is
 # cut back so the domain holds no other fracture, boundary or crack kink.
@@ -104,7 +105,7 @@ def correlation_sifs(problem, cm, E: float, nu: float, plane: str):
     ey = np.array([t.ey for t in tips], float)
     h = np.array([t.h for t in tips], float)
     mu = E / (2 * (1 + nu))
-    KI, KII = K.displacement_correlation(u[:, 0], u[:, 1], u[:, 2], u[:, 3], ex, ey, h, mu, K.kappa(nu, plane))
+    KI, KII = K.displacement_correlation(u[:, 0], u[:, 1], u[:, 2], u[:, 3], ex, ey, h, mu, kappa(nu, plane))
     return np.atleast_1d(KI), np.atleast_1d(KII)
 
 
@@ -116,7 +117,7 @@ def tip_sifs(problem, cm, fractures, domain, E: float, nu: float, plane: str, si
     if not tips:
         return []
     mu = E / (2 * (1 + nu))
-    kap = K.kappa(nu, plane)
+    kap = kappa(nu, plane)
     KI, KII = correlation_sifs(problem, cm, E, nu, plane)
     theta = np.atleast_1d(K.mts_angle(KI, KII))
     Keq = np.atleast_1d(K.equivalent_k(KI, KII, theta))

@@ -41,6 +41,4 @@ void bind_faces(py::module_& m) {
         "Copy of x with the mid node of every edge touching one tip node at 1/4 of the edge from the tip.");
   m.def("min_jacobian", &min_jacobian, py::arg("x"), py::arg("cells"), py::call_guard<py::gil_scoped_release>(),
         "(m,) minimum of det J of the P2 map over the 6 interior Dunavant points of each cell.");
-  m.def("p2_areas", &p2_areas, py::arg("x"), py::arg("cells"), py::call_guard<py::gil_scoped_release>(),
-        "(m,) area of each cell under its P2 isoparametric map (det J integrated exactly).");
 }

@@ -42,18 +42,6 @@ Eigen::Map<const Points2> to_points(const Array& a, const char* name, Eigen::Ind
 
 void bind_geometry(py::module_& m) {
   m.def(
-      "tip_frame",
-      [](const Array& points, int end) {
-        const TipFrame f = tip_frame(to_points(points, "points", 2), end);
-        return py::make_tuple(f.origin, f.ex, f.ey);
-      },
-      py::arg("points"), py::arg("end"),
-      "Tip frame of a polyline (n, 2), n >= 2, at end 0 (first point) or 1 (last point).\n\n"
-      "Returns (origin (2,), ex (2,), ey (2,)): origin is the tip; ex is the unit direction of the\n"
-      "last segment at end 1 and minus that of the first segment at end 0 (pointing ahead of the tip);\n"
-      "ey is ex rotated +90 deg. ValueError for a zero-length end segment.");
-
-  m.def(
       "segment_intersection",
       [](const Array& p0, const Array& p1, const Array& q0, const Array& q1, double tol) {
         const SegmentHit h =
@@ -92,10 +80,6 @@ void bind_geometry(py::module_& m) {
       py::arg("p"), py::arg("points"),
       "(distance, point (2,), segment, t): the closest point of the polyline (n, 2) to p, on segment\n"
       "[segment, segment + 1] at parameter t.");
-
-  m.def(
-      "polyline_length", [](const Array& points) { return polyline_length(to_points(points, "points", 1)); },
-      py::arg("points"), "Sum of the segment lengths of points (n, 2).");
 
   m.def(
       "polyline_self_intersects",

@@ -146,19 +146,6 @@ void bind_sif(py::module_& m) {
       "K_eq = KI cos^3(theta/2) - 1.5 KII cos(theta/2) sin(theta) (paper eq. 10), in Pa m^0.5.");
 
   m.def(
-      "kinked_sifs",
-      [](const Array& KI, const Array& KII, const Array& theta) {
-        const Values a = to_values(KI, "KI"), b = to_values(KII, "KII"), t = to_values(theta, "theta");
-        const Tips tips = count_tips({a.info, b.info, t.info});
-        const Eigen::Index k = tips.k;
-        const TipSIFs s = kinked_sifs(a.for_tips(k), b.for_tips(k), t.for_tips(k));
-        return py::make_tuple(result(s.KI, tips), result(s.KII, tips));
-      },
-      py::arg("KI"), py::arg("KII"), py::arg("theta"),
-      "(kI, kII) of an infinitesimal kink at angle theta (paper eqs. 15-16). At the MTS angle kII = 0\n"
-      "and kI = K_eq.");
-
-  m.def(
       "energy_release_rate",
       [](const Array& KI, const Array& KII, const Array& E, const Array& nu, const Array& kappa) {
         const Values a = to_values(KI, "KI"), b = to_values(KII, "KII"), e = to_values(E, "E"),

@@ -9,7 +9,7 @@ void bind_sif(py::module_& m);
 void bind_faces(py::module_& m);
 void bind_estimate(py::module_& m);
 
-PYBIND11_MODULE(_kernels, m) {
+PYBIND11_MODULE(wingcrack_kernels, m) {
   m.doc() = "wingcrack C++ kernels: quarter-point geometry, SIF correlation, "
             "crack-path geometry, face splitting and node pairs, error estimate";
   bind_geometry(m);

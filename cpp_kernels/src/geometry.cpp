@@ -66,26 +66,6 @@ double relative_eps(const std::array<Point2, 2>& a, const std::array<Point2, 2>&
 
 }  // namespace
 
-TipFrame tip_frame(const PointsRef& points, int end) {
-  const Eigen::Index n = points.rows();
-  if (n < 2) throw std::invalid_argument("tip_frame: a polyline needs at least 2 points");
-  if (end != 0 && end != 1) throw std::invalid_argument("tip_frame: end must be 0 (first point) or 1 (last point)");
-  const Point2 tip = points.row(end == 1 ? n - 1 : 0).transpose();
-  const Point2 behind = points.row(end == 1 ? n - 2 : 1).transpose();
-  const Point2 d = tip - behind;  // at end 0 this is already -d of the first segment
-  // Scaled by its largest component first, so that a segment of any length
-  // (down to subnormal coordinate differences) gives a unit direction.
-  const double big = d.cwiseAbs().maxCoeff();
-  if (!(big > 0.0) || !std::isfinite(big))
-    throw std::invalid_argument("tip_frame: the end segment has zero or non-finite length, its direction is undefined");
-  const Point2 scaled = d / big;
-  TipFrame f;
-  f.origin = tip;
-  f.ex = scaled / length(scaled);
-  f.ey = Point2(-f.ex.y(), f.ex.x());
-  return f;
-}
-
 SegmentDistance point_segment_distance(const Point2& p, const Point2& a, const Point2& b) {
   const Point2 d = b - a;
   const double dd = d.squaredNorm();
@@ -194,12 +174,6 @@ PolylineDistance closest_point_on_polyline(const Point2& p, const PointsRef& poi
 
 double point_polyline_distance(const Point2& p, const PointsRef& points) {
   return closest_point_on_polyline(p, points).distance;
-}
-
-double polyline_length(const PointsRef& points) {
-  double total = 0.0;
-  for (Eigen::Index i = 0; i + 1 < points.rows(); ++i) total += length(points.row(i + 1) - points.row(i));
-  return total;
 }
 
 bool polyline_self_intersects(const PointsRef& points, double tol) {

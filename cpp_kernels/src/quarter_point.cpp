@@ -11,19 +11,19 @@ namespace {
 
 constexpr int kEdge[3][3] = {{0, 1, 3}, {1, 2, 4}, {2, 0, 5}};
 
-// Degree-4 Dunavant rule on the reference triangle (area 1/2): barycentric
-// (a, a, 1 - 2a) and permutations; weights sum to 1.
+// The points of the degree-4 Dunavant rule on the reference triangle:
+// barycentric (a, a, 1 - 2a) and permutations, all interior.
 struct QuadPoint {
-  double xi, eta, w;
+  double xi, eta;
 };
-constexpr double kA1 = 0.445948490915965, kW1 = 0.223381589678011;
-constexpr double kA2 = 0.091576213509771, kW2 = 0.109951743655322;
-constexpr std::array<QuadPoint, 6> kRule{{{kA1, kA1, kW1},
-                                          {1.0 - 2.0 * kA1, kA1, kW1},
-                                          {kA1, 1.0 - 2.0 * kA1, kW1},
-                                          {kA2, kA2, kW2},
-                                          {1.0 - 2.0 * kA2, kA2, kW2},
-                                          {kA2, 1.0 - 2.0 * kA2, kW2}}};
+constexpr double kA1 = 0.445948490915965;
+constexpr double kA2 = 0.091576213509771;
+constexpr std::array<QuadPoint, 6> kRule{{{kA1, kA1},
+                                          {1.0 - 2.0 * kA1, kA1},
+                                          {kA1, 1.0 - 2.0 * kA1},
+                                          {kA2, kA2},
+                                          {1.0 - 2.0 * kA2, kA2},
+                                          {kA2, 1.0 - 2.0 * kA2}}};
 
 // det J of the P2 map of cell c at (xi, eta), nodes [v0, v1, v2, m01, m12, m20].
 double det_jacobian(const Coords2& x, const P2Cells& cells, std::int64_t c, double xi, double eta) {
@@ -74,17 +74,6 @@ Eigen::VectorXd min_jacobian(const Coords2& x, const P2Cells& cells) {
     double lowest = det_jacobian(x, cells, c, kRule[0].xi, kRule[0].eta);
     for (const auto& q : kRule) lowest = std::min(lowest, det_jacobian(x, cells, c, q.xi, q.eta));
     out(c) = lowest;
-  }
-  return out;
-}
-
-Eigen::VectorXd p2_areas(const Coords2& x, const P2Cells& cells) {
-  check_cells(x, cells, "p2_areas");
-  Eigen::VectorXd out(cells.rows());
-  for (Eigen::Index c = 0; c < cells.rows(); ++c) {
-    double sum = 0.0;
-    for (const auto& q : kRule) sum += q.w * det_jacobian(x, cells, c, q.xi, q.eta);
-    out(c) = 0.5 * sum;
   }
   return out;
 }

@@ -102,25 +102,6 @@ Eigen::ArrayXd equivalent_k(const ValuesRef& KI, const ValuesRef& KII, const Val
   return out;
 }
 
-ModeSIFs kinked_sifs(double KI, double KII, double theta) {
-  // The paper's form with the half and three-half angles, kept as printed so
-  // that its agreement with eq. (10) in the tests is a real check.
-  const double c1 = std::cos(0.5 * theta), c3 = std::cos(1.5 * theta);
-  const double s1 = std::sin(0.5 * theta), s3 = std::sin(1.5 * theta);
-  return {0.25 * (3.0 * c1 + c3) * KI - 0.75 * (s1 + s3) * KII, 0.25 * (s1 + s3) * KI + 0.25 * (c1 + 3.0 * c3) * KII};
-}
-
-TipSIFs kinked_sifs(const ValuesRef& KI, const ValuesRef& KII, const ValuesRef& theta) {
-  check_rows("kinked_sifs", KI.size(), {KII.size(), theta.size()});
-  TipSIFs out{Eigen::ArrayXd(KI.size()), Eigen::ArrayXd(KI.size())};
-  for (Eigen::Index i = 0; i < KI.size(); ++i) {
-    const ModeSIFs s = kinked_sifs(KI(i), KII(i), theta(i));
-    out.KI(i) = s.KI;
-    out.KII(i) = s.KII;
-  }
-  return out;
-}
-
 double energy_release_rate(double KI, double KII, double E, double nu, double kappa) {
   if (!(E > 0.0)) throw std::invalid_argument("energy_release_rate: E must be > 0");
   return (1.0 + nu) * (1.0 + kappa) / (4.0 * E) * (KI * KI + KII * KII);

@@ -11,11 +11,11 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from .mesh import DOLFINX_TO_GMSH
+
 _EPS = 1e-3
 # reference points near vertices 0, 1, 2 of the reference triangle
 _POINTS = np.array([[_EPS, _EPS], [1 - 2 * _EPS, _EPS], [_EPS, 1 - 2 * _EPS]])
-# DOLFINx P2 triangle order [v0, v1, v2, m12, m20, m01] -> gmsh [v0, v1, v2, m01, m12, m20]
-_TO_GMSH = [0, 1, 2, 5, 3, 4]
 
 
 def cell_stress(problem):
@@ -27,5 +27,23 @@ def cell_stress(problem):
     ncells = msh.topology.index_map(2).size_local
     cells = np.arange(ncells, dtype=np.int32)
     values = expr.eval(cells).reshape(ncells, 3, 3)
-    geo = msh.geometry.dofmap.array.reshape(-1, 6)[:ncells][:, _TO_GMSH]
+    geo = msh.geometry.dofmap.array.reshape(-1, 6)[:ncells][:, DOLFINX_TO_GMSH]
     return msh.geometry.x[:, :2].copy(), np.ascontiguousarray(geo, dtype=np.int64), values
+
+
+def whole_mesh_stress(problem):
+    """cell_stress of every process's cells, gathered on every process: x by
+    mesher node, cells (mesher node numbers, gmsh order) and their stresses
+    in the mesher's cell order."""
+    fm = problem.fm
+    msh = fm.mesh
+    x, cells, stress = cell_stress(problem)
+    ids = np.asarray(msh.topology.original_cell_index, dtype=np.int64)[:len(cells)]
+    part = (ids, fm.original[cells], stress, fm.original, x)
+    parts = msh.comm.allgather(part) if msh.comm.size > 1 else [part]
+    ids, cells, stress = (np.concatenate([q[i] for q in parts]) for i in range(3))
+    order = np.argsort(ids)
+    nodes = np.concatenate([q[3] for q in parts])
+    xs = np.zeros((nodes.max() + 1, 2))
+    xs[nodes] = np.concatenate([q[4] for q in parts])
+    return xs, np.ascontiguousarray(cells[order]), np.ascontiguousarray(stress[order])

@@ -11,31 +11,14 @@ the load: it is factorised once per mesh (Cholesky, MUMPS) and reused.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import ufl
 from dolfinx import fem
 from dolfinx.fem import petsc as fpetsc
 from petsc4py import PETSc
 
-from .material import lame
-
-
-@dataclass
-class Loads:
-    """What loads the body, in CrackMesh node indices and boundary tags.
-
-    Entries of the first four lists are multiplied by the load factor; the
-    body force and in-situ stress are not.
-    """
-    point_forces: list = field(default_factory=list)          # (node, fx, fy) N/m
-    point_displacements: list = field(default_factory=list)   # (node, comp, value) m
-    tractions: list = field(default_factory=list)             # (tag, tx, ty) Pa
-    boundary_displacements: list = field(default_factory=list)  # (tag, comp, value) m
-    body_force: tuple = (0.0, 0.0)                             # rho g, N/m^3
-    sigma0: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))  # Pa
-    outer_tags: tuple = ()                                     # every outer boundary tag
+from ..loads import Loads
+from ..material import lame
 
 
 def strain(u):
@@ -106,11 +89,24 @@ class ElasticProblem:
             self._energy_form = fem.form(0.5 * ufl.inner(self.stress(u, total=False), strain(u)) * ufl.dx)
         return self.fm.mesh.comm.allreduce(fem.assemble_scalar(self._energy_form))
 
+    def nodal_displacements(self, nodes) -> np.ndarray:
+        """(len(nodes), 2) displacement of CrackMesh `nodes` (m), on every rank."""
+        from .nodal import nodal_displacements
+
+        return nodal_displacements(self.fm, self.u, nodes)
+
+    def nodal_fields(self, num_nodes: int) -> dict | None:
+        """Displacement, total stress and von Mises stress by CrackMesh node
+        (fem.nodal_fields) on rank 0, None elsewhere. Collective."""
+        from .nodal_fields import nodal_fields
+
+        return nodal_fields(self, num_nodes)
+
     # -- boundary conditions ----------------------------------------------
     def _node_dofs(self, node: int) -> np.ndarray:
         """Local block dofs of CrackMesh node `node` on this rank (may be empty)."""
-        local = np.flatnonzero(self.fm.original == node)
-        return np.unique(self.fm.node_dof[local])
+        found, blk = self.fm.block_dofs([node])
+        return blk[found]
 
     def _dirichlet(self, loads: Loads):
         V, msh = self.fm.V, self.fm.mesh

@@ -8,17 +8,22 @@ node, so tip and pair nodes can be found on any number of ranks.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import ufl
 from dolfinx import cpp as _cpp
 from dolfinx import fem
 from dolfinx import mesh as dmesh
-from dolfinx.io.gmshio import cell_perm_array
 from mpi4py import MPI
 
-# gmsh element type ids: 9 = 6-node triangle, 8 = 3-node line
-_TRI6 = 9
+#: P2 triangle nodes, CrackMesh (gmsh) order [v0, v1, v2, m01, m12, m20] ->
+#: DOLFINx order [v0, v1, v2, m12, m20, m01] (a mid node sits opposite the
+#: vertex of its number): cells_dolfinx = cells_gmsh[:, GMSH_TO_DOLFINX].
+#: A P2 line is [v0, v1, m] in both.
+GMSH_TO_DOLFINX = np.array([0, 1, 2, 4, 5, 3])
+#: its inverse: cells_gmsh = cells_dolfinx[:, DOLFINX_TO_GMSH]
+DOLFINX_TO_GMSH = np.argsort(GMSH_TO_DOLFINX)
 
 
 @dataclass
@@ -31,6 +36,27 @@ class FEMesh:
     num_dofs: int          # global scalar dofs
     num_cells: int         # global cells
 
+    def block_dofs(self, nodes) -> tuple[np.ndarray, np.ndarray]:
+        """Where the CrackMesh `nodes` are on this rank: (found (k,) bool,
+        block dof in V (k,), -1 where not found). A node is on every rank
+        that owns or ghosts it."""
+        nodes = np.asarray(nodes, dtype=np.int64).ravel()
+        found = np.zeros(len(nodes), dtype=bool)
+        blk = np.full(len(nodes), -1, dtype=self.node_dof.dtype)
+        if len(self.original) and len(nodes):
+            order = self._order
+            pos = np.minimum(np.searchsorted(self.original, nodes, sorter=order), len(order) - 1)
+            local = order[pos]
+            found = self.original[local] == nodes
+            blk[found] = self.node_dof[local[found]]
+        return found, blk
+
+    @cached_property
+    def _order(self) -> np.ndarray:
+        """The permutation that sorts `original`, for block_dofs' binary
+        search; sorted once per mesh, not per lookup."""
+        return np.argsort(self.original)
+
 
 def _coordinate_domain() -> ufl.Mesh:
     return ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 2))
@@ -39,12 +65,10 @@ def _coordinate_domain() -> ufl.Mesh:
 def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
     """Distribute the CrackMesh `cm` (only read on `root`) and build P2 space."""
     domain = _coordinate_domain()
-    perm = cell_perm_array(_cpp.mesh.CellType.triangle, 6)
-    fperm = cell_perm_array(_cpp.mesh.CellType.interval, 3)
     if comm.rank == root:
-        cells = np.ascontiguousarray(np.asarray(cm.cells, dtype=np.int64)[:, perm])
+        cells = np.ascontiguousarray(np.asarray(cm.cells, dtype=np.int64)[:, GMSH_TO_DOLFINX])
         x = np.ascontiguousarray(np.asarray(cm.x, dtype=np.float64))
-        facets = np.ascontiguousarray(np.asarray(cm.boundary_edges, dtype=np.int64)[:, fperm])
+        facets = np.ascontiguousarray(np.asarray(cm.boundary_edges, dtype=np.int64))
         values = np.asarray(cm.boundary_tags, dtype=np.int32)
     else:
         cells = np.empty((0, 6), dtype=np.int64)

@@ -8,18 +8,11 @@ def nodal_displacements(fm, u, nodes) -> np.ndarray:
     """(len(nodes), 2) displacement of the given CrackMesh nodes, on every rank."""
     nodes = np.asarray(nodes, dtype=np.int64).ravel()
     comm = fm.mesh.comm
-    order = np.argsort(fm.original)
-    pos = np.searchsorted(fm.original, nodes, sorter=order)
-    pos = np.minimum(pos, len(order) - 1) if len(order) else pos
-    found = np.zeros(len(nodes), dtype=bool)
+    found, blk = fm.block_dofs(nodes)
     vals = np.zeros((len(nodes), 2))
-    if len(order):
-        local = order[pos]
-        found = fm.original[local] == nodes
-        blk = fm.node_dof[local[found]]
-        arr = u.x.array
-        vals[found, 0] = arr[2 * blk]
-        vals[found, 1] = arr[2 * blk + 1]
+    arr = u.x.array
+    vals[found, 0] = arr[2 * blk[found]]
+    vals[found, 1] = arr[2 * blk[found] + 1]
     if comm.size > 1:
         from mpi4py import MPI
         count = np.zeros(len(nodes))

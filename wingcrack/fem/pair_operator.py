@@ -23,8 +23,8 @@ from scipy import linalg, sparse
 
 
 BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
-#: MUMPS ICNTL(27), right-hand sides treated together in the solve phase:
-#: 64 took 2.64 s for 69 columns at 311k DOFs on 2 ranks (default -32: 3.96 s, 128: 3.00 s)
+#: MUMPS ICNTL(27), right-hand sides treated together in the solve phase
+#: (the value measured best: README, "Several processes")
 RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
@@ -44,15 +44,9 @@ class PairOperator:
         self.m = m
 
         # local owned rows of B (sparse, n_owned x m: 4 entries a column)
-        order = np.argsort(fm.original)
         dof_i, col_j, val = [], [], []
         for nodes, sign in ((rows.plus, 1.0), (rows.minus, -1.0)):
-            if len(order) == 0:
-                break
-            pos = np.minimum(np.searchsorted(fm.original, nodes, sorter=order), len(order) - 1)
-            local = order[pos]
-            found = fm.original[local] == nodes
-            blk = fm.node_dof[local]
+            found, blk = fm.block_dofs(nodes)
             owned = np.flatnonzero(found & (blk < imap.size_local))
             for comp in (0, 1):
                 dof_i.append(bs * blk[owned] + comp)
@@ -139,13 +133,6 @@ class PairOperator:
     def pair_dofs(fm, rows) -> np.ndarray:
         """Owned local dofs touched by the rows (the Schur set)."""
         imap = fm.V.dofmap.index_map
-        order = np.argsort(fm.original)
-        nodes = np.unique(np.r_[rows.plus, rows.minus])
-        if len(order) == 0 or len(nodes) == 0:
-            return np.zeros(0, dtype=np.int64)
-        pos = np.minimum(np.searchsorted(fm.original, nodes, sorter=order), len(order) - 1)
-        local = order[pos]
-        found = fm.original[local] == nodes
-        blk = fm.node_dof[local[found]]
-        blk = np.unique(blk[blk < imap.size_local])
+        found, blk = fm.block_dofs(np.unique(np.r_[rows.plus, rows.minus]))
+        blk = np.unique(blk[found & (blk < imap.size_local)])
         return np.sort(np.r_[2 * blk, 2 * blk + 1]).astype(np.int64)

@@ -10,14 +10,12 @@ import numpy as np
 def face_state(sol) -> dict:
     """Per pair: position, opening w = [u].n, slip s = [u].t (m), normal
     traction sigma_nn (Pa, <= 0 in contact) and closed (bool)."""
-    from ..fem.nodal import nodal_displacements
-
     cm = sol.cm
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     t = np.c_[n[:, 1], -n[:, 0]]
-    up = nodal_displacements(sol.problem.fm, sol.problem.u, pairs[:, 0])
-    um = nodal_displacements(sol.problem.fm, sol.problem.u, pairs[:, 1])
+    up = sol.problem.nodal_displacements(pairs[:, 0])
+    um = sol.problem.nodal_displacements(pairs[:, 1])
     jump = up - um
     traction = np.zeros(len(pairs))
     closed = np.zeros(len(pairs), bool)

@@ -7,57 +7,14 @@ stress of the in-plane components.
 DOLFINx 0.5's XDMF writer pulls mesh nodes back to the reference cell with a
 Newton iteration, which cannot converge in quarter-point cells (their
 Jacobian vanishes at the tip); writing the CrackMesh nodes directly avoids
-that and keeps the file in the mesh's own node numbering. Values are gathered
-to rank 0, which writes the file.
+that and keeps the file in the mesh's own node numbering. The fem layer
+gathers the values on rank 0 (fem/nodal_fields.py), which writes the file.
 """
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
-import ufl
-from dolfinx import fem
-
-
-def _nodal_stress(problem) -> tuple[np.ndarray, np.ndarray]:
-    """Total stress (sxx, syy, sxy) at the P2 nodes, per local geometry node.
-
-    The stress is discontinuous between cells; each node takes the value of
-    one of its cells (display only)."""
-    fm = problem.fm
-    T = fem.VectorFunctionSpace(fm.mesh, ("Lagrange", 2), dim=3)
-    s = problem.stress(problem.u, total=True)
-    expr = fem.Expression(ufl.as_vector([s[0, 0], s[1, 1], s[0, 1]]), T.element.interpolation_points())
-    f = fem.Function(T)
-    f.interpolate(expr)
-    node_dof = fm.node_dof  # same P2 layout as the displacement space
-    vals = f.x.array.reshape(-1, 3)[node_dof]
-    return vals
-
-
-def nodal_fields(problem) -> dict:
-    """{name: (local geometry nodes, k) array} for the output file."""
-    fm = problem.fm
-    u = problem.u.x.array.reshape(-1, 2)[fm.node_dof]
-    s = _nodal_stress(problem)
-    vm = np.sqrt(s[:, 0] ** 2 - s[:, 0] * s[:, 1] + s[:, 1] ** 2 + 3 * s[:, 2] ** 2)
-    return {"displacement": u, "stress": s, "von_mises": vm}
-
-
-def gather_nodal(fm, fields: dict, num_nodes: int) -> dict | None:
-    """Fields by CrackMesh node index on rank 0 (None on the other ranks)."""
-    comm = fm.mesh.comm
-    parts = comm.gather((fm.original, fields), root=0)
-    if comm.rank != 0:
-        return None
-    out = {}
-    for name, arr in fields.items():
-        shape = (num_nodes,) + arr.shape[1:]
-        full = np.zeros(shape)
-        for original, f in parts:
-            full[original] = f[name]
-        out[name] = full
-    return out
 
 
 def stress_tensor(s: np.ndarray) -> np.ndarray:
@@ -68,24 +25,31 @@ def stress_tensor(s: np.ndarray) -> np.ndarray:
     return t
 
 
-def write_fields(path: Path, problem, cm, field_data: dict | None = None) -> Path:
-    """Write the mesh with displacement, stress tensor and von Mises stress
-    to `path` (.vtu); `field_data` ({name: number}, e.g. the step and its
-    load factor) goes into the file's field data. Collective; rank 0
-    writes."""
+def write_field_arrays(path: Path, cm, fields: dict | None, field_data: dict | None = None) -> Path:
+    """Write the CrackMesh `cm` with `fields` ({"displacement": (n, 2) m,
+    "stress": (n, 3) (sxx, syy, sxy) Pa, "von_mises": (n,) Pa} by node) to
+    `path` (.vtu); `field_data` ({name: number}, e.g. the step and its load
+    factor) goes into the file's field data. Nothing is written where
+    `fields` is None (the ranks but 0 of a parallel run)."""
     import meshio
 
     from .pvd import add_field_data
 
     path = Path(path)
-    full = gather_nodal(problem.fm, nodal_fields(problem), len(cm.x))
-    if full is not None:
+    if fields is not None:
         points = np.c_[cm.x, np.zeros(len(cm.x))]
-        disp = np.c_[full["displacement"], np.zeros(len(cm.x))]
+        disp = np.c_[fields["displacement"], np.zeros(len(cm.x))]
         mesh = meshio.Mesh(points, [("triangle6", np.asarray(cm.cells))],
-                           point_data={"displacement": disp, "stress": stress_tensor(full["stress"]),
-                                       "von_mises": full["von_mises"]})
+                           point_data={"displacement": disp, "stress": stress_tensor(fields["stress"]),
+                                       "von_mises": fields["von_mises"]})
         mesh.write(path)
         if field_data:
             add_field_data(path, field_data)
     return path
+
+
+def write_fields(path: Path, problem, cm, field_data: dict | None = None) -> Path:
+    """write_field_arrays of the solution of `problem` (an
+    fem.elasticity.ElasticProblem: its nodal_fields gathers them).
+    Collective; rank 0 writes."""
+    return write_field_arrays(path, cm, problem.nodal_fields(len(cm.x)), field_data)

@@ -1,12 +1,8 @@
 #pragma once
-// Crack-path geometry on polylines: tip frames, segment intersection and
-// distances. Plain value types in and out, no state.
+// Crack-path geometry on polylines: segment intersection and distances. Plain value types in and out, no state.
 //
 // Conventions (docs/architecture.md): a polyline `points` (n, 2) runs from
-// point 0 to point n-1, its direction d. The tip frame at end 1 has x' = d of
-// the last segment; at end 0, x' = -d of the first segment; y' = x' rotated
-// +90 deg in both cases, so the frame is right-handed and x' points out of
-// the crack, ahead of the tip.
+// point 0 to point n-1, its direction d.
 //
 // Tolerances are relative: `tol` is a fraction of the longer of the two
 // segments compared, so the same tol works for a millimetre crack and a
@@ -20,17 +16,6 @@ using Point2 = Eigen::Vector2d;
 // Row-major (n, 2): the layout of a C-contiguous numpy array of points.
 using Points2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
 using PointsRef = Eigen::Ref<const Points2>;
-
-struct TipFrame {
-  Point2 origin;  // the tip point
-  Point2 ex;      // unit, along the crack, pointing ahead of the tip
-  Point2 ey;      // ex rotated +90 deg
-};
-
-// Frame at end 0 (first point) or end 1 (last point) of a polyline with
-// n >= 2 points. Throws std::invalid_argument for n < 2, end not 0/1, or a
-// zero-length (or non-finite) end segment, where no direction exists.
-TipFrame tip_frame(const PointsRef& points, int end);
 
 struct SegmentHit {
   bool hit = false;
@@ -69,9 +54,6 @@ struct PolylineDistance {
 // Throws std::invalid_argument for n == 0.
 PolylineDistance closest_point_on_polyline(const Point2& p, const PointsRef& points);
 double point_polyline_distance(const Point2& p, const PointsRef& points);
-
-// Sum of the segment lengths (0 for n <= 1).
-double polyline_length(const PointsRef& points);
 
 // True when two non-adjacent segments of the open polyline hit (cross or
 // touch), or two adjacent ones overlap (the path folds back on itself). A

@@ -19,8 +19,4 @@ Coords2 quarter_points(const Coords2& x, const P2Cells& cells, const IndexVector
 // valid quarter-point cell (det J vanishes only at the tip vertex itself).
 Eigen::VectorXd min_jacobian(const Coords2& x, const P2Cells& cells);
 
-// The P2 isoparametric area of each cell (det J integrated exactly: det J is
-// a quadratic polynomial, the 6-point rule is exact for it).
-Eigen::VectorXd p2_areas(const Coords2& x, const P2Cells& cells);
-
 }  // namespace wingcrack

@@ -63,11 +63,6 @@ Eigen::ArrayXd mts_angle(const ValuesRef& KI, const ValuesRef& KII);
 double equivalent_k(double KI, double KII, double theta);
 Eigen::ArrayXd equivalent_k(const ValuesRef& KI, const ValuesRef& KII, const ValuesRef& theta);
 
-// Eqs. (15)-(16): local SIFs of an infinitesimal kink at angle theta.
-// kII = 0 at the MTS angle, where kI = K_eq.
-ModeSIFs kinked_sifs(double KI, double KII, double theta);
-TipSIFs kinked_sifs(const ValuesRef& KI, const ValuesRef& KII, const ValuesRef& theta);
-
 // Eq. (14): G = (1 + nu)(1 + kappa) / (4 E) (KI^2 + KII^2), which is
 // (1 - nu^2)(KI^2 + KII^2)/E in plane strain and (KI^2 + KII^2)/E in plane
 // stress. KI enters squared whatever its sign. Throws for E <= 0.

@@ -1,7 +1,12 @@
-"""Linear isotropic elasticity in 2D: plane stress or plane strain."""
+"""Linear isotropic elasticity in 2D, plane stress or plane strain: the
+material constants every layer uses, in one place (numpy only, no DOLFINx)."""
 from __future__ import annotations
 
 import numpy as np
+
+# The Kolosov constant, 3 - 4 nu (plane strain), (3 - nu)/(1 + nu) (plane
+# stress), is defined once, in the kernels, whose SIF formulas take it.
+from wingcrack_kernels import kappa  # noqa: F401
 
 
 def lame(E: float, nu: float, plane: str) -> tuple[float, float]:
@@ -17,13 +22,10 @@ def lame(E: float, nu: float, plane: str) -> tuple[float, float]:
     return lam, mu
 
 
-def kappa(nu: float, plane: str) -> float:
-    """Kolosov constant: 3 - 4 nu (plane strain), (3 - nu)/(1 + nu) (plane stress)."""
-    return 3.0 - 4.0 * nu if plane == "strain" else (3.0 - nu) / (1.0 + nu)
-
-
-def effective_modulus(E: float, nu: float, plane: str) -> float:
-    """E' in G = K^2 / E': E (plane stress), E / (1 - nu^2) (plane strain)."""
+def e_prime(E: float, nu: float, plane: str) -> float:
+    """E' in G = K^2 / E' (Pa): E (plane stress), E / (1 - nu^2) (plane strain)."""
+    if plane not in ("stress", "strain"):
+        raise ValueError(f"plane must be 'strain' or 'stress', got {plane!r}")
     return E if plane == "stress" else E / (1.0 - nu * nu)
 
 
