@@ -251,3 +251,45 @@ def test_debug_shows_the_traceback(fake_api, tmp_path, capsys):
     assert "Traceback" in capsys.readouterr().err
     assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path), "--debug"]) == 1
     assert "Traceback" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["sif", "run", "crosscheck"])
+@pytest.mark.parametrize("name", ["", "  "])
+def test_an_empty_output_folder_name_exits_2(fake_api, tmp_path, monkeypatch, capsys, command, name):
+    """Issue 12.9: `-o ""` is Path("") = the current folder; refused (one
+    line, exit 2) before anything is written there."""
+    monkeypatch.chdir(tmp_path)
+    assert cli.main([command, str(CASES[0]), "-o", name]) == 2
+    assert capsys.readouterr().err == (f"wingcrack: error: {name!r}: an empty output folder name (it would write "
+                                       "into the current folder; say -o . for that)\n")
+    assert fake_api.calls == [] and list(tmp_path.iterdir()) == []
+
+
+def test_sigterm_and_ctrl_c_exit_128_plus_the_signal(fake_api, tmp_path, capsys):
+    """A command stopped by SIGTERM (interrupt.Terminated) exits 143, by
+    Ctrl-C 130: the codes a shell reports for a process ended by them."""
+    from wingcrack.propagation.interrupt import Terminated
+
+    fake_api.behaviour = Terminated()
+    assert cli.main(["run", str(CASES[0]), "-o", str(tmp_path / "a")]) == 143
+    assert capsys.readouterr().err == "wingcrack: error: terminated\n"
+    fake_api.behaviour = KeyboardInterrupt()
+    assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "b")]) == 130
+    assert capsys.readouterr().err == "wingcrack: error: interrupted\n"
+
+
+def test_sigterm_during_a_command_raises_terminated(fake_api, tmp_path, capsys):
+    """The CLI turns SIGTERM into Terminated for the whole command (not only
+    inside a run's loop): the api here is killed while it works."""
+    import os
+    import signal
+
+    def work(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(1000):
+            pass
+        raise AssertionError("SIGTERM did not stop the command")
+
+    fake_api.sif = work
+    assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "out")]) == 143
+    assert capsys.readouterr().err == "wingcrack: error: terminated\n"
