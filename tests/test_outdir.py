@@ -223,11 +223,13 @@ def test_the_lock_dies_with_its_process_and_leaves_nothing(tmp_path):
     holder.send_signal(signal.SIGKILL)
     holder.wait()
     with locked(out):
-        with pytest.raises(FolderError, match=f"\\(pid {os.getpid()}\\)"):   # a second holder, even in-process
-            with locked(out):
-                pass
-    with locked(out):   # released on leaving
-        pass
+        with locked(out):   # re-entrant within a process: the CLI's command, then the api
+            pass
+        other = subprocess.run([sys.executable, "-c", HOLD, str(out)], capture_output=True, text=True, timeout=60)
+        assert other.returncode == 1 and f"in use by another wingcrack run (pid {os.getpid()})" in other.stderr
+    holder = hold(out)   # released on leaving
+    holder.kill()
+    holder.wait()
     assert list(out.iterdir()) == []
 
 

@@ -58,7 +58,7 @@ def _parser() -> argparse.ArgumentParser:
                            help="continue the run in OUTDIR from its last finished step (after a kill or Ctrl-C)")
     pl = sub.add_parser("plot", parents=[common],
                         help="draw fractures.png, history.png and growth.gif of a result folder")
-    pl.add_argument("folder", type=Path, metavar="OUTDIR", help="a folder written by `wingcrack run` or `sif`")
+    pl.add_argument("folder", type=str, metavar="OUTDIR", help="a folder written by `wingcrack run` or `sif`")
     x = sub.add_parser("crosscheck", parents=[common],
                        help="solve with open faces by wingcrack and by scikit-fem on the same mesh, compare")
     x.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
@@ -69,13 +69,19 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _out_path(text: str) -> Path:
-    """The -o folder (checked here, not by argparse, whose errors are not one
-    line) as a Path; FolderError for a name that is empty or only blanks:
-    Path("") is the current folder, results would land among whatever is
-    there."""
+    """The -o folder, or plot's (checked here, not by argparse, whose errors
+    are not one line), as a Path; FolderError for a name that is empty or
+    only blanks (Path("") is the current folder: results would land among
+    whatever is there) or that the system refuses outright."""
     if not text.strip():
-        raise FolderError(repr(str(text)), "an empty output folder name (it would write into the current folder; "
-                          "say -o . for that)")
+        raise FolderError(repr(str(text)), "an empty folder name (it would mean the current folder; "
+                          "say . for that)")
+    try:
+        os.stat(text)
+    except (FileNotFoundError, NotADirectoryError):
+        pass   # a new folder, or one below a file: prepare() says which
+    except OSError as err:   # a name too long, a symlink loop: no file operation on it can work
+        raise FolderError(text, f"cannot use the path ({err.strerror or err})") from None
     return Path(text)
 
 
@@ -127,6 +133,7 @@ def _command(args) -> int:
     if getattr(args, "out", None) is not None:
         args.out = _out_path(args.out)
     if args.command == "plot":
+        args.folder = _out_path(args.folder)
         with _locked(args.folder, create=False):
             return _plot(args)
     from wingcrack.case import Case

@@ -100,15 +100,16 @@ def prepare(out, force: bool = False) -> Path:
 def locked(folder, create: bool = False, comm=None):
     """Hold the lock of `folder` within (see the module doc); FolderError
     "is in use by another wingcrack run (pid N)" at once when another process
-    holds it. `create`: make the folder first if it is missing (a new
-    result's folder). A folder that is missing (and not to be created), is
-    not a folder, or cannot be opened or locked is not locked here: the
-    command itself then reports why it cannot use it. `comm` (MPI): rank 0
-    takes the lock and every rank raises its refusal."""
+    holds it. Re-entrant within a process (the CLI holds it for the command,
+    the api may take it again). `create`: make the folder first if it is
+    missing (a new result's folder). A folder that is missing (and not to be
+    created), is not a folder, or cannot be opened or locked is not locked
+    here: the command itself then reports why it cannot use it. `comm`
+    (MPI): rank 0 takes the lock and every rank raises its refusal."""
     rank = 0 if comm is None else comm.rank
-    fd, holder = None, None
+    key, holder = None, None
     if rank == 0:
-        fd, holder = _lock(Path(folder), create)
+        key, holder = _lock(Path(folder), create)
     if comm is not None and comm.size > 1:
         holder = comm.bcast(holder, root=0)
     if holder is not None:
@@ -117,25 +118,37 @@ def locked(folder, create: bool = False, comm=None):
     try:
         yield Path(folder)
     finally:
-        if fd is not None:
-            os.close(fd)   # closing the only descriptor releases the lock
+        if key is not None:
+            _held[key][1] -= 1
+            if _held[key][1] == 0:
+                os.close(_held.pop(key)[0])   # closing the only descriptor releases the lock
+
+
+_held: dict = {}   # (st_dev, st_ino) of a folder this process locks -> [descriptor, depth]
 
 
 def _lock(folder: Path, create: bool):
-    """(descriptor holding the lock or None, pid of the holder or None; 0 when unknown)."""
+    """(key of the lock now held, or None; pid of another holder, or None; 0 when unknown)."""
     try:
         if create:
             folder.mkdir(parents=True, exist_ok=True)
         fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     except OSError:
         return None, None
+    st = os.fstat(fd)
+    key = (st.st_dev, st.st_ino)
+    if key in _held:
+        os.close(fd)   # a second descriptor's flock would conflict with our own
+        _held[key][1] += 1
+        return key, None
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError as err:
         holder = _lock_holder(fd) if err.errno in (errno.EWOULDBLOCK, errno.EAGAIN) else None
         os.close(fd)
         return None, holder   # other errors: a file system without flock, run unlocked as before
-    return fd, None
+    _held[key] = [fd, 1]
+    return key, None
 
 
 def _lock_holder(fd) -> int:
