@@ -3,8 +3,8 @@
 Runs `wingcrack.sif` on the 45-degree Brazilian disc at about 30,000 DOFs,
 once to compile the forms and then REPEAT times, and prints the phases
 (mesh, to-DOLFINx, assemble, factorize, solve, SIF, output) with their share;
-then the propagation cases (propagation.py) and the 30k-1M DOF scaling on
-1 and 2 MPI ranks (scaling.py).
+then the mesher alone on the disc (mesh_disc.py), the propagation cases
+(propagation.py) and the 30k-1M DOF scaling on 1 and 2 MPI ranks (scaling.py).
 """
 from __future__ import annotations
 
@@ -99,6 +99,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     bench_sif(args.repeat)
     bench_contact(args.repeat)
+    from mesh_disc import main as bench_mesh
+    bench_mesh(args.repeat)
     from propagation import main as bench_propagation
     bench_propagation()
     from scaling import main as bench_scaling

@@ -251,3 +251,66 @@ def test_debug_shows_the_traceback(fake_api, tmp_path, capsys):
     assert "Traceback" in capsys.readouterr().err
     assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path), "--debug"]) == 1
     assert "Traceback" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["sif", "run", "crosscheck", "plot"])
+@pytest.mark.parametrize("name", ["", "  "])
+def test_an_empty_output_folder_name_exits_2(fake_api, tmp_path, monkeypatch, capsys, command, name):
+    """Issue 12.9: `-o ""` is Path("") = the current folder; refused (one
+    line, exit 2) before anything is written there (`plot ""` too)."""
+    monkeypatch.chdir(tmp_path)
+    args = ["plot", name] if command == "plot" else [command, str(CASES[0]), "-o", name]
+    assert cli.main(args) == 2
+    assert capsys.readouterr().err == (f"wingcrack: error: {name!r}: an empty folder name (it would mean "
+                                       "the current folder; say . for that)\n")
+    assert fake_api.calls == [] and list(tmp_path.iterdir()) == []
+
+
+def test_sigterm_and_ctrl_c_exit_128_plus_the_signal(fake_api, tmp_path, capsys):
+    """A command stopped by SIGTERM (interrupt.Terminated) exits 143, by
+    Ctrl-C 130: the codes a shell reports for a process ended by them."""
+    from wingcrack.propagation.interrupt import Terminated
+
+    fake_api.behaviour = Terminated()
+    assert cli.main(["run", str(CASES[0]), "-o", str(tmp_path / "a")]) == 143
+    assert capsys.readouterr().err == "wingcrack: error: terminated\n"
+    fake_api.behaviour = KeyboardInterrupt()
+    assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "b")]) == 130
+    assert capsys.readouterr().err == "wingcrack: error: interrupted\n"
+
+
+def test_sigterm_during_a_command_raises_terminated(fake_api, tmp_path, capsys):
+    """The CLI turns SIGTERM into Terminated for the whole command (not only
+    inside a run's loop): the api here is killed while it works."""
+    import os
+    import signal
+
+    def work(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(1000):
+            pass
+        raise AssertionError("SIGTERM did not stop the command")
+
+    fake_api.sif = work
+    assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "out")]) == 143
+    assert capsys.readouterr().err == "wingcrack: error: terminated\n"
+
+
+@pytest.mark.parametrize("command", ["sif", "run", "resume", "plot"])
+@pytest.mark.parametrize("problem", ["too long", "loop"])
+def test_an_unusable_output_path_exits_2(fake_api, tmp_path, capsys, command, problem):
+    """Degenerate -o the system refuses before any file is made: a name over
+    NAME_MAX (255 bytes) or a symlink loop; one line naming the path, not
+    "unexpected OSError"."""
+    if problem == "loop":
+        path = tmp_path / "loop"
+        path.symlink_to(path)
+        reason = "Too many levels of symbolic links"
+    else:
+        path = tmp_path / ("a" * 300)
+        reason = "File name too long"
+    args = {"plot": ["plot", str(path)], "resume": ["run", str(CASES[0]), "-o", str(path), "--resume"]}.get(
+        command, [command, str(CASES[0]), "-o", str(path)])
+    assert cli.main(args) == 2
+    assert capsys.readouterr().err == f"wingcrack: error: {path}: cannot use the path ({reason})\n"
+    assert fake_api.calls == []

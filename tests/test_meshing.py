@@ -6,8 +6,6 @@ test: exact areas of the domains, the tip rosette geometry (radius h, quarter
 points at h/4), node counts by hand, and a cell graph for the face split.
 """
 
-import time
-
 import numpy as np
 import pytest
 from scipy.sparse import coo_matrix
@@ -297,21 +295,24 @@ def test_edge_crack_mouth_is_split(case):
             assert len(on_boundary) == 2  # each copy ends one boundary edge
 
 
-def test_disc_timing_and_size():
-    domain, fractures, points, kw = disc_case()
-    crack_mesh(domain, fractures, points, **kw)  # warm up (imports, page faults)
-    best = min(_timed(lambda: crack_mesh(domain, fractures, points, **kw)) for _ in range(3))
-    mesh = crack_mesh(domain, fractures, points, **kw)
-    print(f"\ndisc 45 deg: {mesh.stats['nodes']} nodes, {mesh.stats['cells']} cells, best {best:.3f} s")
-    # target 0.3 s; the assert leaves a factor 3 for a loaded CI machine
-    assert best < 1.0
-    assert mesh.stats["seconds_gmsh"] > 0.0
-
-
-def _timed(f):
-    t = time.perf_counter()
-    f()
-    return time.perf_counter() - t
+def test_disc_mesh_follows_size_and_tip_size(case):
+    """The sizes asked for, on every mesh (its time is measured by
+    benchmarks/mesh_disc.py, `make bench`, not asserted here). References:
+    uniform meshes of equilateral cells (area sqrt(3)/4 s^2) at `size` and at
+    `tip_size` bound the cell count of a mesh graded between them (half the
+    coarse count: Frontal-Delaunay edges run up to ~1.3 size); no straight
+    edge longer than 1.5 size (gmsh's target is `size`; 1.26 measured on the
+    disc); the stats count what the mesh holds."""
+    name, domain, fractures, points, kw, mesh = case
+    area = p2_area(mesh.x, mesh.cells)
+    n_coarse = area / (np.sqrt(3) / 4 * kw["size"] ** 2)
+    n_fine = area / (np.sqrt(3) / 4 * kw["tip_size"] ** 2)
+    assert 0.5 * n_coarse < len(mesh.cells) < n_fine, (name, len(mesh.cells), n_coarse, n_fine)
+    v = mesh.x[mesh.cells[:, :3]]
+    edges = np.linalg.norm(v[:, [1, 2, 0]] - v, axis=2)
+    assert edges.max() <= 1.5 * kw["size"], (name, edges.max() / kw["size"])
+    assert (mesh.stats["nodes"], mesh.stats["cells"]) == (len(mesh.x), len(mesh.cells))
+    assert mesh.stats["tips"] == len(mesh.tips)
 
 
 def test_repeatable_and_silent(capfd):

@@ -1,11 +1,15 @@
 """Issue 7: randomised fracture networks (tests/networks.py), 10 steps each.
 
-Every run must end `finished`, `stopped: ...` or `failed: <reason>` with
-exit 0 or 1 (never a hang: each runs under a time limit; never a traceback),
-summary.json must hold no NaN or infinity, no two fractures may cross at any
-step, and the mesh of every step must pass the quality checks (positive
-Jacobians, no degenerate cell). `make test` runs 20 seeds; `make soak` sets
-WINGCRACK_SOAK_SEEDS=200.
+Every run must end `finished` or `stopped: ...` with exit 0 (never a hang:
+each runs under a time limit; never a traceback; never `failed`: every
+generated network is a valid case, so a failure is a bug), summary.json must
+hold no NaN or infinity, no two fractures may cross at any step, and the mesh
+of every step must pass the quality checks (positive Jacobians, no degenerate
+cell). The seeds of `make test` must end as measured (issue 12.10: a
+regression that stops or fails networks early must not pass): 19 of 20 run
+all 10 steps; seed 2's load never brings a tip to KIc. `make test` runs 20
+seeds; `make soak` sets WINGCRACK_SOAK_SEEDS=200 (those past the measured
+ones are held to the rules above).
 """
 import json
 import os
@@ -23,6 +27,10 @@ SEEDS = range(int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")),
                int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")) + int(os.environ.get("WINGCRACK_SOAK_SEEDS", "20")))
 LIMIT = 300.0  # seconds a run may take (they take 2-20 s here)
 WINGCRACK = Path(sys.executable).with_name("wingcrack")
+STEPS = 10   # networks.random_case's propagation.steps
+# (status, steps in summary.json) of seeds 0-19 as measured; every other one: ("finished", STEPS)
+MEASURED = range(20)
+EXPECTED = {2: ("stopped: no tip reaches KIc below the load factor limit 100", 0)}
 
 
 def _no_nan(text: str) -> None:
@@ -41,14 +49,15 @@ def test_random_network(seed, tmp_path):
                               capture_output=True, text=True, timeout=LIMIT)
     except subprocess.TimeoutExpired:
         pytest.fail(f"seed {seed}: no result within {LIMIT:g} s (a hang)")
-    assert proc.returncode in (0, 1), f"seed {seed}: exit {proc.returncode}: {proc.stderr}"
+    assert proc.returncode == 0, f"seed {seed}: exit {proc.returncode}: {proc.stderr}"
     assert "Traceback" not in proc.stderr, proc.stderr
     text = (out / "summary.json").read_text()
     _no_nan(text)
     summary = json.loads(text)
     status = summary["status"]
-    assert status == "finished" or status.startswith(("stopped: ", "failed: ")), status
-    assert (proc.returncode == 1) == status.startswith("failed: ")
+    assert status == "finished" or status.startswith("stopped: "), f"seed {seed}: {status}"
+    if seed in MEASURED:
+        assert (status, len(summary["steps"])) == EXPECTED.get(seed, ("finished", STEPS)), f"seed {seed}"
     # fractures of the last state never cross (the loop checks every step too)
     by_fracture = {}
     for piece in summary.get("fractures", []):

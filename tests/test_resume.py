@@ -89,7 +89,10 @@ def test_killed_run_resumes_to_the_same_geometry(tmp_path, reference, seed):
     out = tmp_path / "out"
     proc = start(case, out)
     wait_for_steps(proc, out, 1)
-    time.sleep(random.Random(seed).uniform(0.0, 1.5))   # a random moment of a later step
+    # a random moment of the next two steps, in units of the reference's step
+    # time: a fixed delay outlasted all the steps left on an idle machine
+    step = float(np.median([st["seconds"]["total"] for st in reference[0]["steps"]]))
+    time.sleep(random.Random(seed).uniform(0.0, 2.0) * step)
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     kept = finished_steps(out)
@@ -145,3 +148,98 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path):
                            capture_output=True, text=True)
     assert wrong.returncode == 2 and "another case" in wrong.stderr
     assert len(wrong.stderr.strip().splitlines()) == 1
+
+
+def _truncated(path):
+    path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+
+
+def _empty(path):
+    path.write_bytes(b"")
+
+
+def _garbage(path):
+    path.write_bytes(bytes(range(256)) * 8)
+
+
+def _no_fractures_key(path):
+    data = dict(np.load(path))
+    meta = json.loads(str(data["meta"]))
+    del meta["fractures"]
+    data["meta"] = np.array(json.dumps(meta))
+    with open(path, "wb") as fh:
+        np.savez(fh, **data)
+
+
+def _no_points(path):
+    data = {k: v for k, v in np.load(path).items() if not k.startswith("points_")}
+    with open(path, "wb") as fh:
+        np.savez(fh, **data)
+
+
+def _meta_not_json(path):
+    data = dict(np.load(path))
+    data["meta"] = np.array("{not json")
+    with open(path, "wb") as fh:
+        np.savez(fh, **data)
+
+
+def _bad_points(path):
+    data = dict(np.load(path))
+    data["points_0"] = np.zeros(3)
+    with open(path, "wb") as fh:
+        np.savez(fh, **data)
+
+
+@pytest.mark.parametrize("damage", [_truncated, _empty, _garbage, _no_fractures_key, _no_points, _meta_not_json,
+                                    _bad_points], ids=lambda f: f.__name__.strip("_"))
+def test_resume_from_a_damaged_checkpoint_exits_2_naming_it(tmp_path, capsys, damage):
+    """Issue 12.8: a checkpoint.npz that cannot be read (cut short, empty,
+    not a zip, keys or arrays missing, a polyline of the wrong shape) is a
+    bad input: exit 2 and one line naming the file, never "unexpected
+    BadZipFile". Reference: the same file undamaged loads."""
+    from wingcrack import cli
+    from wingcrack.case import Case
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    path = write_case(tmp_path / "case.toml", steps=3)
+    case = Case.from_toml(path)
+    out = tmp_path / "out"
+    out.mkdir()
+    checkpoint.save(out, case, 0, FractureSet.from_case(case), 1.0, [], None)
+    assert checkpoint.load(out, case)["step"] == 0
+    damage(out / checkpoint.NAME)
+    assert cli.main(["run", str(path), "-o", str(out), "--resume", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "unexpected" not in err, err
+    assert err.startswith(f"wingcrack: error: {out}: {out / checkpoint.NAME} cannot be read as a checkpoint ("), err
+
+
+def test_sigterm_stops_like_ctrl_c_and_resumes(tmp_path):
+    """Issue 12.9: SIGTERM (kill, a batch system's time limit) in the middle
+    of a run: exit 143 (128 + 15, what a shell reports for a process the
+    signal ended), status "stopped: terminated" (not "running"), the finished
+    steps kept, and --resume goes on from them to the same numbers."""
+    case = write_case(tmp_path / "case.toml", steps=60)
+    out = tmp_path / "out"
+    proc = start(case, out)
+    wait_for_steps(proc, out, 2)
+    time.sleep(0.3)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert err == "wingcrack: error: terminated\n"
+    s = json.loads((out / "summary.json").read_text())
+    kept = len(s["steps"])
+    assert s["status"] == "stopped: terminated" and 2 <= kept < 60
+    write_case(case, steps=kept + 1)
+    resumed = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots", "--resume"],
+                             capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    r = json.loads((out / "summary.json").read_text())
+    assert r["status"] == "finished" and len(r["steps"]) == kept + 1
+
+    def physics(steps):
+        return [{k: v for k, v in st.items() if k != "seconds"} for st in steps]
+    assert physics(r["steps"][:kept]) == physics(s["steps"])

@@ -2,15 +2,18 @@
 and `wingcrack plot OUTDIR`.
 
 Exit status (case contract): 0 done; 2 the case is invalid, or a folder
-cannot be used (an output folder that cannot be written or holds a previous
-result without --force; a folder to plot that is missing or not a wingcrack
-result): one line ``wingcrack: error: <key or path>: <reason>`` on stderr,
-no traceback; 1 the computation failed. Only this module parses arguments
+cannot be used (an output folder that cannot be written, holds a previous
+result without --force, or is in use by another wingcrack command; an empty
+-o; a folder to plot that is missing or not a wingcrack result): one line
+``wingcrack: error: <key or path>: <reason>`` on stderr, no traceback; 1 the
+computation failed; 130 stopped by Ctrl-C, 143 by SIGTERM (a run keeps
+every finished step and can be resumed). Only this module parses arguments
 and prints.
 """
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 from pathlib import Path
@@ -19,6 +22,7 @@ from wingcrack import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
 from wingcrack.parallel import world_rank
 from wingcrack.progress import ProgressBar
+from wingcrack.propagation import interrupt
 
 PROG = "wingcrack"
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
@@ -44,7 +48,7 @@ def _parser() -> argparse.ArgumentParser:
     for name, text in (("sif", "one solve of the initial geometry, no growth"), ("run", "full propagation")):
         c = sub.add_parser(name, parents=[common], help=text)
         c.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
-        c.add_argument("-o", "--out", type=Path, required=True, metavar="OUTDIR", help="output directory")
+        c.add_argument("-o", "--out", type=str, required=True, metavar="OUTDIR", help="output directory")
         c.add_argument("--force", action="store_true",
                        help="replace a previous result in OUTDIR (its files are deleted first)")
         if name == "run":
@@ -54,14 +58,31 @@ def _parser() -> argparse.ArgumentParser:
                            help="continue the run in OUTDIR from its last finished step (after a kill or Ctrl-C)")
     pl = sub.add_parser("plot", parents=[common],
                         help="draw fractures.png, history.png and growth.gif of a result folder")
-    pl.add_argument("folder", type=Path, metavar="OUTDIR", help="a folder written by `wingcrack run` or `sif`")
+    pl.add_argument("folder", type=str, metavar="OUTDIR", help="a folder written by `wingcrack run` or `sif`")
     x = sub.add_parser("crosscheck", parents=[common],
                        help="solve with open faces by wingcrack and by scikit-fem on the same mesh, compare")
     x.add_argument("case", type=Path, metavar="CASE", help="case file (TOML)")
-    x.add_argument("-o", "--out", type=Path, metavar="OUTDIR", help="also write OUTDIR/crosscheck.json")
+    x.add_argument("-o", "--out", type=str, metavar="OUTDIR", help="also write OUTDIR/crosscheck.json")
     x.add_argument("--tol", type=_positive, default=None, metavar="TOL",
                    help="largest relative difference of displacements and SIFs accepted (default 1e-6)")
     return p
+
+
+def _out_path(text: str) -> Path:
+    """The -o folder, or plot's (checked here, not by argparse, whose errors
+    are not one line), as a Path; FolderError for a name that is empty or
+    only blanks (Path("") is the current folder: results would land among
+    whatever is there) or that the system refuses outright."""
+    if not text.strip():
+        raise FolderError(repr(str(text)), "an empty folder name (it would mean the current folder; "
+                          "say . for that)")
+    try:
+        os.stat(text)
+    except (FileNotFoundError, NotADirectoryError):
+        pass   # a new folder, or one below a file: prepare() says which
+    except OSError as err:   # a name too long, a symlink loop: no file operation on it can work
+        raise FolderError(text, f"cannot use the path ({err.strerror or err})") from None
+    return Path(text)
 
 
 def _positive(text: str) -> float:
@@ -88,37 +109,17 @@ def _error(message: str, every_rank: bool = False) -> None:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
-        if args.command == "plot":
-            return _plot(args)
-        from wingcrack.case import Case
-
-        case = Case.from_toml(args.case)
-        if args.command == "check":
-            if not args.quiet:
-                print(describe(case))
-            return EXIT_OK
-        if args.command == "crosscheck":
-            return _crosscheck(case, args)
-        from wingcrack import api  # DOLFINx is imported only for sif/run
-
-        if args.command == "run":
-            with _progress(case, args.quiet) as progress:
-                result = api.run(case, args.out, args.quiet, progress=progress, plots=args.plots, force=args.force,
-                                 resume=args.resume)
-        else:
-            result = api.sif(case, args.out, args.quiet, force=args.force)
-        if result is not None and world_rank() == 0:  # where the results are, even with --quiet
-            print(f"{PROG}: {result.summary['status']}; results in {args.out}/: " + _names(result.files))
-        return EXIT_OK
+        with interrupt.terminate_raises():   # SIGTERM ends a command as Ctrl-C does
+            return _command(args)
     except (CaseError, FolderError) as err:
         _error(str(err))
         return EXIT_INVALID
     except ComputationError as err:
         _error(str(err) or "the computation failed")
         return EXIT_FAILED
-    except KeyboardInterrupt:
-        _error("interrupted")
-        return 130
+    except KeyboardInterrupt as err:   # Ctrl-C, or SIGTERM (interrupt.Terminated)
+        _error("terminated" if isinstance(err, interrupt.Terminated) else "interrupted")
+        return interrupt.exit_code(err)
     except Exception as err:  # noqa: BLE001 - the CLI is the last line of defence
         if args.debug:
             traceback.print_exc()
@@ -126,6 +127,51 @@ def main(argv: list[str] | None = None) -> int:
         hint = "" if args.debug else " (run with --debug for the traceback)"
         _error(f"unexpected {type(err).__name__}: {detail}{hint}", every_rank=True)
         return EXIT_FAILED
+
+
+def _command(args) -> int:
+    if getattr(args, "out", None) is not None:
+        args.out = _out_path(args.out)
+    if args.command == "plot":
+        args.folder = _out_path(args.folder)
+        with _locked(args.folder, create=False):
+            return _plot(args)
+    from wingcrack.case import Case
+
+    case = Case.from_toml(args.case)
+    if args.command == "check":
+        if not args.quiet:
+            print(describe(case))
+        return EXIT_OK
+    if args.command == "crosscheck":
+        return _crosscheck(case, args)
+    from wingcrack import api  # DOLFINx is imported only for sif/run
+
+    with _locked(args.out, create=not getattr(args, "resume", False)):
+        if args.command == "run":
+            with _progress(case, args.quiet) as progress:
+                result = api.run(case, args.out, args.quiet, progress=progress, plots=args.plots, force=args.force,
+                                 resume=args.resume)
+        else:
+            result = api.sif(case, args.out, args.quiet, force=args.force)
+    if result is not None and world_rank() == 0:  # where the results are, even with --quiet
+        print(f"{PROG}: {result.summary['status']}; results in {args.out}/: " + _names(result.files))
+    return EXIT_OK
+
+
+def _locked(folder, create: bool):
+    """The folder's lock for the whole command (io.outdir.locked): a second
+    wingcrack command on the same folder is refused. Under a launcher
+    (mpirun, srun) rank 0 holds it and tells the others."""
+    from wingcrack.io.outdir import locked
+
+    comm = None
+    if os.environ.get("OMPI_COMM_WORLD_SIZE") or os.environ.get("PMI_SIZE") or os.environ.get("PMIX_RANK") \
+            or "mpi4py.MPI" in sys.modules:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    return locked(folder, create=create, comm=comm)
 
 
 def _names(files: dict) -> str:

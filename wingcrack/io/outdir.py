@@ -11,11 +11,24 @@ A new result never replaces a previous one unless forced. Without force, a
 folder holding any of these files is refused; with force, exactly these
 files are deleted first (nothing else in the folder is touched), so no step
 file of a longer earlier run is left next to the new ones.
+
+One command at a time per folder (locked): `run`, `sif`, `run --resume` and
+`plot` hold an exclusive advisory lock (flock) on the folder itself for the
+whole command, so a second one into the same folder is refused at once
+instead of mixing its files with the first's. The lock is on the folder's
+own inode, not on a lock file: nothing is added to the folder (a refused or
+foreign folder stays as it was, and --force and read_result see only the
+result's files), and nothing stale is left after a kill: the kernel drops
+the lock with the process that held it. Under mpirun rank 0 holds it.
 """
 from __future__ import annotations
 
+import contextlib
+import errno
+import fcntl
 import json
 import math
+import os
 import re
 import tempfile
 from dataclasses import dataclass
@@ -81,6 +94,77 @@ def prepare(out, force: bool = False) -> Path:
     except OSError as err:
         raise FolderError(out, f"cannot replace the previous result ({err.strerror or err})") from None
     return out
+
+
+@contextlib.contextmanager
+def locked(folder, create: bool = False, comm=None):
+    """Hold the lock of `folder` within (see the module doc); FolderError
+    "is in use by another wingcrack run (pid N)" at once when another process
+    holds it. Re-entrant within a process (the CLI holds it for the command,
+    the api may take it again). `create`: make the folder first if it is
+    missing (a new result's folder). A folder that is missing (and not to be
+    created), is not a folder, or cannot be opened or locked is not locked
+    here: the command itself then reports why it cannot use it. `comm`
+    (MPI): rank 0 takes the lock and every rank raises its refusal."""
+    rank = 0 if comm is None else comm.rank
+    key, holder = None, None
+    if rank == 0:
+        key, holder = _lock(Path(folder), create)
+    if comm is not None and comm.size > 1:
+        holder = comm.bcast(holder, root=0)
+    if holder is not None:
+        raise FolderError(folder, "is in use by another wingcrack run" + (f" (pid {holder})" if holder > 0 else "")
+                          + "; wait for it to end or use another folder")
+    try:
+        yield Path(folder)
+    finally:
+        if key is not None:
+            _held[key][1] -= 1
+            if _held[key][1] == 0:
+                os.close(_held.pop(key)[0])   # closing the only descriptor releases the lock
+
+
+_held: dict = {}   # (st_dev, st_ino) of a folder this process locks -> [descriptor, depth]
+
+
+def _lock(folder: Path, create: bool):
+    """(key of the lock now held, or None; pid of another holder, or None; 0 when unknown)."""
+    try:
+        if create:
+            folder.mkdir(parents=True, exist_ok=True)
+        fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    except OSError:
+        return None, None
+    st = os.fstat(fd)
+    key = (st.st_dev, st.st_ino)
+    if key in _held:
+        os.close(fd)   # a second descriptor's flock would conflict with our own
+        _held[key][1] += 1
+        return key, None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError as err:
+        holder = _lock_holder(fd) if err.errno in (errno.EWOULDBLOCK, errno.EAGAIN) else None
+        os.close(fd)
+        return None, holder   # other errors: a file system without flock, run unlocked as before
+    _held[key] = [fd, 1]
+    return key, None
+
+
+def _lock_holder(fd) -> int:
+    """The pid that holds the flock on fd's file, from /proc/locks (0 if unknown)."""
+    st = os.fstat(fd)
+    inode = f"{os.major(st.st_dev):02x}:{os.minor(st.st_dev):02x}:{st.st_ino}"
+    try:
+        with open("/proc/locks", encoding="ascii", errors="replace") as fh:
+            for line in fh:
+                f = line.split()
+                # "1: FLOCK  ADVISORY  WRITE 12672 fe:00:260072 0 EOF" (a waiter's line has "->")
+                if len(f) >= 6 and f[1] == "FLOCK" and f[5] == inode and f[4].isdigit():
+                    return int(f[4])
+    except OSError:
+        pass
+    return 0
 
 
 def check_writable(folder) -> Path:

@@ -63,22 +63,42 @@ def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes) -
 
 def load(out, case) -> dict:
     """{'step', 'load_factor', 'steps', 'fset', 'sizes'} of the checkpoint in
-    `out`; ValueError with the reason when there is none or it belongs to
-    another case."""
+    `out`; ValueError naming the file and the reason when there is none, it
+    cannot be read (truncated, empty, not a checkpoint, keys missing) or it
+    belongs to another case."""
     path = Path(out) / NAME
     if not path.is_file():
         raise ValueError(f"{path} does not exist: nothing to resume (was the run started with this -o?)")
     try:
-        with np.load(path) as data:
+        with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
             points = [np.array(data[f"points_{i}"]) for i in range(len(meta["fractures"]))]
             sizes = (np.array(data["size_triangles"]), np.array(data["size_values"])) \
                 if "size_triangles" in data else None
-    except (OSError, KeyError, ValueError) as err:
-        raise ValueError(f"{path} cannot be read ({err})") from None
-    if meta.get("version") != VERSION or meta.get("case") != fingerprint(case):
+    except Exception as err:  # noqa: BLE001 - a damaged file fails in numpy, zipfile, zlib or json in any way
+        raise ValueError(f"{path} cannot be read as a checkpoint ({_reason(err)}); "
+                         "start the run again without --resume (with --force)") from None
+    if not isinstance(meta, dict) or meta.get("version") != VERSION or meta.get("case") != fingerprint(case):
         raise ValueError(f"{path} was written for another case (or another wingcrack version)")
-    fractures = [GrowingFracture(p, tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"], m["slip"],
-                                 m["slip_profile"], m["grow"]) for p, m in zip(points, meta["fractures"])]
-    return {"step": meta["step"], "load_factor": meta["load_factor"], "steps": meta["steps"],
-            "fset": FractureSet(fractures), "sizes": sizes}
+    try:
+        fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"],
+                                     m["slip"], m["slip_profile"], m["grow"])
+                     for p, m in zip(points, meta["fractures"])]
+        state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
+                 "fset": FractureSet(fractures), "sizes": sizes}
+    except (KeyError, TypeError, ValueError) as err:
+        raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "
+                         "start the run again without --resume (with --force)") from None
+    return state
+
+
+def _points(p) -> np.ndarray:
+    p = np.asarray(p, float)
+    if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.all(np.isfinite(p)):
+        raise ValueError(f"a polyline of shape {p.shape}")
+    return p
+
+
+def _reason(err: BaseException) -> str:
+    detail = " ".join(str(err).split())
+    return f"{type(err).__name__}: {detail}" if detail else type(err).__name__

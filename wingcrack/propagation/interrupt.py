@@ -1,5 +1,12 @@
-"""Ctrl-C during a propagation run: it must stop the run at once and never
-be lost.
+"""Ctrl-C (SIGINT) or SIGTERM during a propagation run: it must stop the run
+at once and never be lost.
+
+SIGTERM (`kill PID`, a batch system's time limit, mpirun passing it on to
+every rank) is handled like Ctrl-C: the handler raises Terminated, a
+KeyboardInterrupt, so the run stops the same way (every finished step kept,
+resumable) with status "stopped: terminated" instead of "stopped:
+interrupted" (stop_status), and the CLI exits 128 + 15 as a process killed
+by the signal would.
 
 Python raises KeyboardInterrupt wherever the main thread happens to be when
 the signal arrives. If that is a finalizer or a weakref callback that the
@@ -18,13 +25,67 @@ import signal
 import sys
 import threading
 
-_pressed = False
+_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+_pressed = None   # the exception class of a signal received and not yet raised
+
+
+class Terminated(KeyboardInterrupt):
+    """Raised by the SIGTERM handler: stop as after Ctrl-C."""
+
+
+def _exception(signum):
+    return Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
 
 def _handler(signum, frame):
     global _pressed
-    _pressed = True
-    raise KeyboardInterrupt
+    _pressed = _exception(signum)
+    raise _pressed
+
+
+def stop_status(err: BaseException) -> str:
+    """The status of a run stopped by `err` (a KeyboardInterrupt)."""
+    return "stopped: terminated" if isinstance(err, Terminated) else "stopped: interrupted"
+
+
+def exit_code(err: BaseException) -> int:
+    """The exit status after `err`: 128 + the signal's number, as a shell
+    reports a process that the signal ended (130 Ctrl-C, 143 SIGTERM)."""
+    return 128 + (signal.SIGTERM if isinstance(err, Terminated) else signal.SIGINT)
+
+
+def _install(handler) -> dict:
+    """Set `handler` for SIGINT and SIGTERM; the previous handlers."""
+    return {s: signal.signal(s, handler) for s in _SIGNALS}
+
+
+def _restore(old: dict) -> None:
+    for s, h in old.items():
+        if s == signal.SIGINT and not callable(h):
+            h = signal.default_int_handler   # gmsh's import left SIG_DFL: Python's own again
+        signal.signal(s, h if h is not None else signal.SIG_DFL)
+
+
+class terminate_raises:
+    """Within (main thread only): SIGTERM raises Terminated, as Ctrl-C raises
+    KeyboardInterrupt, instead of ending the process at once. The CLI holds
+    this for a whole command, so that a terminated `sif` or `plot` also
+    ends through the normal path (output folder released, one line, 143)."""
+
+    def __enter__(self):
+        self.active = _main_thread()
+        if self.active:
+            self.old = signal.signal(signal.SIGTERM, self._raise)
+        return self
+
+    @staticmethod
+    def _raise(signum, frame):
+        raise Terminated
+
+    def __exit__(self, *exc):
+        if self.active:
+            signal.signal(signal.SIGTERM, self.old if self.old is not None else signal.SIG_DFL)
+        return False
 
 
 def _main_thread() -> bool:
@@ -32,19 +93,19 @@ def _main_thread() -> bool:
 
 
 class watching:
-    """The SIGINT handling of one run (main thread only; elsewhere a no-op).
+    """The SIGINT and SIGTERM handling of one run (main thread only; elsewhere a no-op).
     `import gmsh` resets SIGINT to its default (the process would just
     die), so gmsh is imported first; on leaving, Python's own handler is
-    put back."""
+    put back (and the SIGTERM handler that was there)."""
 
     def __enter__(self):
         global _pressed
         import gmsh  # noqa: F401 - its import is what resets SIGINT: have it done first
 
-        _pressed = False
+        _pressed = None
         self.active = _main_thread()
         if self.active:
-            self.old = signal.signal(signal.SIGINT, _handler)
+            self.old = _install(_handler)
             self.old_hook = sys.unraisablehook
             sys.unraisablehook = self._unraisable
         return self
@@ -56,37 +117,39 @@ class watching:
 
     def __exit__(self, *exc):
         if self.active:
-            keep = self.old if callable(self.old) else signal.default_int_handler
-            signal.signal(signal.SIGINT, keep)
+            _restore(self.old)
             sys.unraisablehook = self.old_hook
         return False
 
 
 def check() -> None:
-    """Raise KeyboardInterrupt if Ctrl-C was pressed and swallowed."""
+    """Raise KeyboardInterrupt (Terminated after SIGTERM) if the signal came
+    and its exception was swallowed."""
     global _pressed
-    if _pressed:
-        _pressed = False
-        raise KeyboardInterrupt
+    if _pressed is not None:
+        exc, _pressed = _pressed, None
+        raise exc
 
 
 class deferred:
-    """Within: Ctrl-C only sets a flag; on leaving, KeyboardInterrupt is
-    raised if it was pressed (here or, swallowed, before)."""
+    """Within: Ctrl-C or SIGTERM only sets a flag; on leaving, its exception
+    is raised if it came (here or, swallowed, before)."""
 
     def __enter__(self):
         self.active = _main_thread()
         if self.active:
-            self.old = signal.signal(signal.SIGINT, self._flag)
+            self.old = _install(self._flag)
         return self
 
-    def _flag(self, *_):
+    @staticmethod
+    def _flag(signum, frame):
         global _pressed
-        _pressed = True
+        _pressed = _exception(signum)
 
     def __exit__(self, *exc):
         if self.active:
-            signal.signal(signal.SIGINT, self.old)
+            for s, h in self.old.items():
+                signal.signal(s, h if h is not None else signal.SIG_DFL)
         if exc[0] is None:
             check()
         return False

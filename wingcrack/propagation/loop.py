@@ -94,8 +94,9 @@ def run(case, out=None, quiet: bool = True, progress=None, mesh_timeout: float |
     """Grow the case's fractures; see the module doc. `progress(step, info)`
     is called after every step (the CLI's progress bar). With `resume`, go
     on from the checkpoint in `out` (see checkpoint.py). Ctrl-C (SIGINT)
-    stops at once with status "stopped: interrupted", every finished step
-    kept, and raises KeyboardInterrupt again."""
+    stops at once with status "stopped: interrupted" (SIGTERM: "stopped:
+    terminated"), every finished step kept, and raises KeyboardInterrupt
+    (interrupt.Terminated) again."""
     with interrupt.watching(), _collector_skips_modules():
         return _run(case, out, progress, mesh_timeout, resume)
 
@@ -241,8 +242,8 @@ def _run(case, out, progress, mesh_timeout, resume) -> RunResult:
                     checkpoint.save(out, case, k, fset, lam, steps, sizes)
             if progress is not None:
                 progress(k, step)
-        except KeyboardInterrupt:
-            status = "stopped: interrupted"
+        except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
+            status = interrupt.stop_status(err)
             write(status)
             raise
         except ComputationError as err:
