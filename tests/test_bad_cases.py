@@ -152,6 +152,45 @@ def test_ten_megabyte_file_is_refused_unread(tmp_path):
     assert not out.exists()
 
 
+def test_half_a_megabyte_title_is_refused(tmp_path, capfd):
+    # The issue's reproduction: 500,000 characters overflowed matplotlib's
+    # raster when fractures.png was drawn, after the solve. The corpus holds
+    # a 1,000-character one (title_huge.toml).
+    path = tmp_path / "case.toml"
+    path.write_text(base_text().replace('title = "plate with an inclined crack"', 'title = "' + "x" * 500_000 + '"'))
+    for argv in (["check", str(path)], ["sif", str(path), "-o", str(tmp_path / "out")]):
+        assert_refused(*run_main(argv, capfd), "title", "got 500000")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("kind", ["fifo", "directory", "dev-zero"])
+def test_a_case_that_is_not_a_regular_file_is_refused(kind, tmp_path, capfd):
+    """A FIFO blocked `check` forever (open waits for a writer); a directory
+    and /dev/zero are no case either. Refused before reading, naming the file;
+    the alarm turns a hang into a failure."""
+    import os
+    import signal
+
+    path = {"fifo": tmp_path / "case.toml", "directory": tmp_path / "dir.toml", "dev-zero": Path("/dev/zero")}[kind]
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "directory":
+        path.mkdir()
+
+    def hung(signum, frame):
+        raise TimeoutError(f"{kind}: the CLI blocked")
+
+    old = signal.signal(signal.SIGALRM, hung)
+    signal.setitimer(signal.ITIMER_REAL, 20.0)
+    try:
+        for argv in (["check", str(path)], ["sif", str(path), "-o", str(tmp_path / "out")]):
+            assert_refused(*run_main(argv, capfd), str(path), "not a regular file")
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+    assert not (tmp_path / "out").exists()
+
+
 # ---------------------------------------------------------------- valid neighbours of the new checks
 
 
