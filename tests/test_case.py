@@ -452,7 +452,8 @@ def test_uniform_slip_profile_is_no_condition():
 
 
 @pytest.mark.parametrize("changes", [
-    [("material.E", 1e3), ("bc.0.traction", [0.0, 100.0]), ("bc.1.traction", [0.0, -100.0])], [("material.E", 1e13)], [("material.KIc", 1.0)], [("material.KIc", 1e9)],
+    [("material.E", 1e3), ("bc.0.traction", [0.0, 100.0]), ("bc.1.traction", [0.0, -100.0])],
+    [("material.E", 1e13)], [("material.KIc", 1.0)], [("material.KIc", 1e9)],
     [("material.density", 1e5)],
     [("stress", {"sxx": -1e9, "syy": 1e9, "sxy": -1e9})],        # 0.1 E
     [("bc.0.traction", [1e9, -1e9])],

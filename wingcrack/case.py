@@ -121,13 +121,6 @@ class Range:
         if hi is not None and not (x < hi if self.open else x <= hi):
             raise CaseError(key, f"{what}must be {'<' if self.open else '<='} {hi:g}{self.note}, got {got}")
 
-    def text(self, name: str) -> str:
-        if self.lo is not None and self.hi is not None:
-            return f"{self.lo:g} < {name} < {self.hi:g}" if self.open else f"{self.lo:g} ... {self.hi:g}"
-        if self.lo is not None:
-            return f"{'>' if self.open else '>='} {self.lo:g}"
-        return f"{'<' if self.open else '<='} {self.hi:g}"
-
 
 POSITIVE = Range(0, open=True)
 NON_NEGATIVE = Range(0)
@@ -157,17 +150,14 @@ class Limit:
         unit = f" {unit}" if unit else ""
         if self.lo > 0:
             raise CaseError(key, f"must lie within {self.lo:g} .. {self.hi:g}{unit} ({self.why}), got {x:g}")
-        bound = f"{self._bound()} = {self.hi * scale:.4g}{unit}" if self.of else f"{self.hi:g}{unit}"
+        bound = f"{self.bound} = {self.hi * scale:.4g}{unit}" if self.of else f"{self.hi:g}{unit}"
         size = " in magnitude" if signed else ""
         raise CaseError(key, f"must be at most {bound}{size} ({self.why}), got {x:g}")
 
-    def _bound(self) -> str:
+    @property
+    def bound(self) -> str:
+        """The upper bound as text: "0.1 E", "L", "1e+09"."""
         return self.of if self.of and self.hi == 1 else f"{self.hi:g} {self.of}".strip()
-
-    def text(self, signed: bool) -> str:
-        if self.lo > 0:
-            return f"{self.lo:g} ... {self.hi:g}"
-        return f"|x| <= {self._bound()}" if signed else f"<= {self._bound()}"
 
 
 @dataclass(frozen=True)
@@ -256,8 +246,9 @@ class Material:
     E: float = key(unit="Pa", range=POSITIVE, doc="Young's modulus.",
                    limit=Limit(1e3, 1e13, why="from soft gels, 1 kPa, to above diamond, 1.2e12 Pa"))
     nu: float = key(range=Range(-1.0, 0.5, open=True), doc="Poisson's ratio.")
-    KIc: float = key(unit="Pa m^0.5", range=POSITIVE, doc="Fracture toughness. A tip grows when its K_eq reaches KIc.",
-                     limit=Limit(1.0, 1e9, why="from below the softest gels, ~10, to five times the toughest steels, ~2e8"))
+    KIc: float = key(unit="Pa m^0.5", range=POSITIVE, doc="Fracture toughness. A tip grows when its K_eq reaches "
+                     "KIc.", limit=Limit(1.0, 1e9, why="from below the softest gels, ~10, to five times the toughest "
+                                                       "steels, ~2e8"))
     plane: str = key("stress", choices=PLANES, doc="Plane stress or plane strain: E' = E, or E/(1-nu^2).")
     thickness: float = key(1.0, unit="m", range=POSITIVE, doc="Checked and printed by `check`, but no result "
                            "depends on it: loads and results are per metre of thickness.")
@@ -807,7 +798,8 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     mesh = _parse_mesh(top.value(section["mesh"]), scales)
     _check_mesh_against_domain(mesh, domain)
     _check_mesh_against_fractures(mesh, fractures, domain, tol)
-    propagation = Propagation(**top.value(section["propagation"]).read(keys_of(Propagation), {**scales, "mesh.tip_size": mesh.tip_size}))
+    scales["mesh.tip_size"] = mesh.tip_size  # the default of propagation.length
+    propagation = Propagation(**top.value(section["propagation"]).read(keys_of(Propagation), scales))
 
     _check_statically_determined(bcs, domain)
 

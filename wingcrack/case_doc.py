@@ -11,7 +11,7 @@ import re
 import sys
 from pathlib import Path
 
-from wingcrack.case import POINT, REQUIRED, SHAPE_KEYS, STRING, TABLES_DOC, Key, Ref
+from wingcrack.case import POINT, REQUIRED, SHAPE_KEYS, STRING, TABLES_DOC, Key, Range, Ref
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "case-format.md"
 _BLOCK = re.compile(r"(<!-- keys: (\w+) -->\n).*?(<!-- end keys -->)", re.S)
@@ -40,12 +40,28 @@ def _default(k: Key) -> str:
     return f"`{_toml(k.default)}`"
 
 
+def _range(r: Range, name: str) -> str:
+    if r.lo is not None and r.hi is not None:
+        return f"{r.lo:g} < {name} < {r.hi:g}" if r.open else f"{r.lo:g} ... {r.hi:g}"
+    if r.lo is not None:
+        return f"{'>' if r.open else '>='} {r.lo:g}"
+    return f"{'<' if r.open else '<='} {r.hi:g}"
+
+
+def _limit(k: Key) -> str:
+    if k.type == STRING:
+        return f"at most {k.limit.hi:g} characters"
+    if k.limit.lo > 0:
+        return f"{k.limit.lo:g} ... {k.limit.hi:g}"
+    return f"|x| <= {k.limit.bound}" if k.signed else f"<= {k.limit.bound}"
+
+
 def _allowed(k: Key) -> str:
     parts = []
     if k.choices:
         parts.append(" | ".join(f'`"{c}"`' for c in k.choices))
     if k.range is not None:
-        parts.append(("each " if k.type == POINT else "") + k.range.text(k.name))
+        parts.append(("each " if k.type == POINT else "") + _range(k.range, k.name))
     if k.min_points:
         parts.append(f"at least {k.min_points} points")
     if k.only_with is not None:
@@ -53,8 +69,7 @@ def _allowed(k: Key) -> str:
     if k.limit is not None:
         unit = f" {k.unit}" if k.unit and not k.limit.of else ""
         each = "each " if k.type == POINT else ""
-        text = f"at most {k.limit.hi:g} characters" if k.type == STRING else k.limit.text(k.signed)
-        parts.append(f"{each}{text}{unit} ({k.limit.why}) **R**")
+        parts.append(f"{each}{_limit(k)}{unit} ({k.limit.why}) **R**")
     if k.rule:
         parts.append(f"{k.rule} **R**")
     return "; ".join(parts)
