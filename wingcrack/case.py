@@ -416,8 +416,6 @@ SHAPE_KEYS = {
 }
 
 _BC_VALUE = "Global x and y components."
-BC_PLACES = ("at", "on")
-BC_CONDITIONS = ("force", "traction", "displacement", "displacement_x", "displacement_y")
 BC_KEYS = (
     Key("at", POINT, None, "m", doc="A boundary point. It becomes a mesh node, and duplicate points share one node.",
         rule="within 1e-9 L of the boundary, and not on a fracture (a mouth): that would be ambiguous"),
@@ -434,14 +432,17 @@ BC_KEYS = (
     Key("displacement_y", NUMBER, None, "m", doc="As `displacement_x`.",
         limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL)),
 )
+BC_PLACES = ("at", "on")
+BC_CONDITIONS = tuple(k.name for k in BC_KEYS if k.name not in BC_PLACES)
 
-#: The tables of a case in reading order, for the reference: (heading, Keys).
-TABLES_DOC = (
-    ("top", TOP_KEYS), ("material", keys_of(Material)),
-    ("domain", (SHAPE,) + tuple(k for keys in SHAPE_KEYS.values() for k in keys)),
-    ("fractures", keys_of(Fracture)), ("bc", BC_KEYS), ("body", keys_of(Body)), ("stress", keys_of(Stress)),
-    ("mesh", keys_of(MeshOptions)), ("propagation", keys_of(Propagation)),
-)
+#: Every table of a case, in reading order: what the reader reads and the
+#: reference documents ([domain]: every shape's keys).
+DESCRIPTION = {
+    "top": TOP_KEYS, "material": keys_of(Material),
+    "domain": (SHAPE,) + tuple(k for keys in SHAPE_KEYS.values() for k in keys),
+    "fractures": keys_of(Fracture), "bc": BC_KEYS, "body": keys_of(Body), "stress": keys_of(Stress),
+    "mesh": keys_of(MeshOptions), "propagation": keys_of(Propagation),
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -682,7 +683,7 @@ _READERS = {NUMBER: _as_number, INTEGER: _as_integer, BOOLEAN: _as_boolean, STRI
 
 def _parse_domain(t: _Table):
     """Check the domain table and build the meshing.Domain."""
-    t.refuse_unknown((SHAPE,) + tuple(k for keys in SHAPE_KEYS.values() for k in keys))
+    t.refuse_unknown(DESCRIPTION["domain"])
     shape = t.value(SHAPE)
     keys = SHAPE_KEYS[shape]
     for k in t.data:
@@ -710,7 +711,7 @@ def _parse_domain(t: _Table):
 def _parse_bc(t: _Table, boundary_names, scales: dict) -> BC:
     """One place and one condition; displacement_x and displacement_y
     together are one displacement condition."""
-    t.refuse_unknown(BC_KEYS)
+    t.refuse_unknown(DESCRIPTION["bc"])
     if all(p in t.data for p in BC_PLACES):
         raise CaseError(t.path, "give one place: either at (a point) or on (a boundary), not both")
     if not any(p in t.data for p in BC_PLACES):
@@ -726,7 +727,7 @@ def _parse_bc(t: _Table, boundary_names, scales: dict) -> BC:
     if len(kinds) > 1:
         raise CaseError(t.path, "two conditions (" + " and ".join(given) + "): each [[bc]] holds one")
     kind = kinds.pop()
-    v = t.read(BC_KEYS, scales)
+    v = t.read(DESCRIPTION["bc"], scales)
     at, on = v["at"], v["on"]
     if on is not None:
         names = list(boundary_names)
@@ -747,7 +748,7 @@ def _parse_bc(t: _Table, boundary_names, scales: dict) -> BC:
 
 
 def _parse_mesh(t: _Table, scales: dict) -> MeshOptions:
-    mesh = MeshOptions(**t.read(keys_of(MeshOptions), scales))
+    mesh = MeshOptions(**t.read(DESCRIPTION["mesh"], scales))
     if mesh.tip_size >= mesh.size:
         raise CaseError(t.key("tip_size"), f"must be smaller than mesh.size ({mesh.tip_size:g} >= {mesh.size:g})")
     return mesh
@@ -765,18 +766,18 @@ def _scales(material: Material, domain) -> dict:
 
 def _parse_case(d: dict, source: Path | None) -> Case:
     top = _Table(d, "")
-    top.refuse_unknown(TOP_KEYS)
-    section = {k.name: k for k in TOP_KEYS}  # each read when its turn comes: errors in file order
+    top.refuse_unknown(DESCRIPTION["top"])
+    section = {k.name: k for k in DESCRIPTION["top"]}  # each read in its turn: errors in reading order
     title = top.value(section["title"])
 
-    material = Material(**top.value(section["material"]).read(keys_of(Material)))
+    material = Material(**top.value(section["material"]).read(DESCRIPTION["material"]))
     domain = _parse_domain(top.value(section["domain"]))
     L = float(domain.length_scale())
     tol = REL_TOL * L
     scales = _scales(material, domain)
 
     fr_tables = top.value(section["fractures"])
-    parsed = [ft.read(keys_of(Fracture), scales) for ft in fr_tables]
+    parsed = [ft.read(DESCRIPTION["fractures"], scales) for ft in fr_tables]
     for ft, f in zip(fr_tables, parsed):
         _check_fracture_geometry(f["points"], ft.key("points"), domain, tol)
     _check_fractures_apart([f["points"] for f in parsed], tol)
@@ -792,14 +793,14 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     _check_bc_conflicts(bcs, domain, tol)
 
     # gravity with density 0 (the contract's example) is no body force: allowed
-    body = Body(**top.value(section["body"]).read(keys_of(Body), scales))
-    stress = Stress(**top.value(section["stress"]).read(keys_of(Stress), scales))
+    body = Body(**top.value(section["body"]).read(DESCRIPTION["body"], scales))
+    stress = Stress(**top.value(section["stress"]).read(DESCRIPTION["stress"], scales))
 
     mesh = _parse_mesh(top.value(section["mesh"]), scales)
     _check_mesh_against_domain(mesh, domain)
     _check_mesh_against_fractures(mesh, fractures, domain, tol)
     scales["mesh.tip_size"] = mesh.tip_size  # the default of propagation.length
-    propagation = Propagation(**top.value(section["propagation"]).read(keys_of(Propagation), scales))
+    propagation = Propagation(**top.value(section["propagation"]).read(DESCRIPTION["propagation"], scales))
 
     _check_statically_determined(bcs, domain)
 

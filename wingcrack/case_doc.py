@@ -1,7 +1,7 @@
 """The key tables of docs/case-format.md, rendered from the Keys of wingcrack.case.
 
 Each table of the reference sits between `<!-- keys: NAME -->` and
-`<!-- end keys -->` (NAME as in `case.TABLES_DOC`). `python -m
+`<!-- end keys -->` (NAME as in `case.DESCRIPTION`). `python -m
 wingcrack.case_doc` rewrites them; tests/test_case.py checks that the file
 holds what `render` gives, so the reference and the reader cannot drift.
 """
@@ -11,7 +11,7 @@ import re
 import sys
 from pathlib import Path
 
-from wingcrack.case import POINT, REQUIRED, SHAPE_KEYS, STRING, TABLES_DOC, Key, Range, Ref
+from wingcrack.case import DESCRIPTION, POINT, REQUIRED, SHAPE_KEYS, STRING, Key, Range, Ref
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "case-format.md"
 _BLOCK = re.compile(r"(<!-- keys: (\w+) -->\n).*?(<!-- end keys -->)", re.S)
@@ -88,10 +88,8 @@ def table(name: str, keys) -> str:
 
 def render(text: str) -> str:
     """`text` with every keys block replaced by its rendered table."""
-    tables = dict(TABLES_DOC)
-
     def block(m: re.Match) -> str:
-        return m.group(1) + table(m.group(2), tables[m.group(2)]) + m.group(3)
+        return m.group(1) + table(m.group(2), DESCRIPTION[m.group(2)]) + m.group(3)
 
     return _BLOCK.sub(block, text)
 
