@@ -195,7 +195,7 @@ class Key:
     def signed(self) -> bool:
         return self.range is None or self.range.lo is None or self.range.lo < 0
 
-    def check(self, v, key: str, values: dict, scales: dict) -> None:
+    def check(self, v, key: str, values: dict, known: dict) -> None:
         """Everything this key asks of its (converted) value v."""
         if self.choices and v not in self.choices:
             options = " | ".join(f'"{c}"' for c in self.choices)
@@ -212,7 +212,7 @@ class Key:
             if self.range is not None:
                 self.range.check(x, at, f"{self.parts[i]} " if self.parts else "")
             if self.limit is not None:
-                self.limit.check(x, at, self.unit, self.signed, scales)
+                self.limit.check(x, at, self.unit, self.signed, known)
 
 
 def key(default=REQUIRED, **spec) -> dataclasses.Field:
@@ -652,25 +652,25 @@ class _Table:
                 hint = f" (did you mean {near[0]}?)" if near else ""
                 raise CaseError(self.key(k), f"unknown key{hint}")
 
-    def read(self, keys, scales: dict | None = None) -> dict:
-        """{name: value} of every Key, checked, in order; a Ref default and a
-        Limit's scale are looked up in `scales`."""
+    def read(self, keys, known: dict | None = None) -> dict:
+        """{name: value} of every Key, checked, in order. `known` holds what
+        was read before: the scales a Limit names and the keys a Ref names."""
         self.refuse_unknown(keys)
         values: dict = {}
         for k in keys:
-            values[k.name] = self.value(k, values, scales or {})
+            values[k.name] = self.value(k, values, known or {})
         return values
 
-    def value(self, k: Key, values: dict | None = None, scales: dict | None = None):
+    def value(self, k: Key, values: dict | None = None, known: dict | None = None):
         key = self.key(k.name)
         if k.name not in self.data:
             if k.default is REQUIRED:
                 raise CaseError(key, "missing (required table)" if k.type == TABLE else "missing (required)")
             if isinstance(k.default, Ref):
-                return scales[k.default.key]
+                return known[k.default.key]
             return {TABLE: lambda: _Table({}, key), TABLES: list}.get(k.type, lambda: k.default)()
         v = _READERS[k.type](self.data[k.name], key)
-        k.check(v, key, values or {}, scales or {})
+        k.check(v, key, values or {}, known or {})
         return v
 
 
@@ -708,7 +708,7 @@ def _parse_domain(t: _Table):
         raise CaseError(t.path, str(err)) from None
 
 
-def _parse_bc(t: _Table, boundary_names, scales: dict) -> BC:
+def _parse_bc(t: _Table, boundary_names, known: dict) -> BC:
     """One place and one condition; displacement_x and displacement_y
     together are one displacement condition."""
     t.refuse_unknown(DESCRIPTION["bc"])
@@ -727,7 +727,7 @@ def _parse_bc(t: _Table, boundary_names, scales: dict) -> BC:
     if len(kinds) > 1:
         raise CaseError(t.path, "two conditions (" + " and ".join(given) + "): each [[bc]] holds one")
     kind = kinds.pop()
-    v = t.read(DESCRIPTION["bc"], scales)
+    v = t.read(DESCRIPTION["bc"], known)
     at, on = v["at"], v["on"]
     if on is not None:
         names = list(boundary_names)
@@ -747,15 +747,15 @@ def _parse_bc(t: _Table, boundary_names, scales: dict) -> BC:
     return BC("displacement", (ux or 0.0, uy or 0.0), at=at, on=on, components=(ux is not None, uy is not None))
 
 
-def _parse_mesh(t: _Table, scales: dict) -> MeshOptions:
-    mesh = MeshOptions(**t.read(DESCRIPTION["mesh"], scales))
+def _parse_mesh(t: _Table, known: dict) -> MeshOptions:
+    mesh = MeshOptions(**t.read(DESCRIPTION["mesh"], known))
     if mesh.tip_size >= mesh.size:
         raise CaseError(t.key("tip_size"), f"must be smaller than mesh.size ({mesh.tip_size:g} >= {mesh.size:g})")
     return mesh
 
 
 def _scales(material: Material, domain) -> dict:
-    """The scales a Limit may name: E, L (the domain's length scale) and products."""
+    """What Limits scale by: E, L (the domain's length scale) and their products."""
     E, L = material.E, float(domain.length_scale())
     weight = material.density * L  # may underflow to 0: no body force then
     return {"E": E, "L": L, "E L": E * L, "E / (density L)": E / weight if weight > 0 else math.inf}
@@ -774,10 +774,10 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     domain = _parse_domain(top.value(section["domain"]))
     L = float(domain.length_scale())
     tol = REL_TOL * L
-    scales = _scales(material, domain)
+    known = _scales(material, domain)
 
     fr_tables = top.value(section["fractures"])
-    parsed = [ft.read(DESCRIPTION["fractures"], scales) for ft in fr_tables]
+    parsed = [ft.read(DESCRIPTION["fractures"], known) for ft in fr_tables]
     for ft, f in zip(fr_tables, parsed):
         _check_fracture_geometry(f["points"], ft.key("points"), domain, tol)
     _check_fractures_apart([f["points"] for f in parsed], tol)
@@ -786,21 +786,21 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     fractures = tuple(Fracture(**f) for f in parsed)
 
     bc_tables = top.value(section["bc"])
-    bcs = tuple(_parse_bc(bt, domain.boundary_names(), scales) for bt in bc_tables)
+    bcs = tuple(_parse_bc(bt, domain.boundary_names(), known) for bt in bc_tables)
     for bt, bc in zip(bc_tables, bcs):
         if bc.at is not None:
             _check_bc_point(bc.at, bt.key("at"), domain, fractures, tol)
     _check_bc_conflicts(bcs, domain, tol)
 
     # gravity with density 0 (the contract's example) is no body force: allowed
-    body = Body(**top.value(section["body"]).read(DESCRIPTION["body"], scales))
-    stress = Stress(**top.value(section["stress"]).read(DESCRIPTION["stress"], scales))
+    body = Body(**top.value(section["body"]).read(DESCRIPTION["body"], known))
+    stress = Stress(**top.value(section["stress"]).read(DESCRIPTION["stress"], known))
 
-    mesh = _parse_mesh(top.value(section["mesh"]), scales)
+    mesh = _parse_mesh(top.value(section["mesh"]), known)
     _check_mesh_against_domain(mesh, domain)
     _check_mesh_against_fractures(mesh, fractures, domain, tol)
-    scales["mesh.tip_size"] = mesh.tip_size  # the default of propagation.length
-    propagation = Propagation(**top.value(section["propagation"]).read(DESCRIPTION["propagation"], scales))
+    known["mesh.tip_size"] = mesh.tip_size  # a Ref: the default of propagation.length
+    propagation = Propagation(**top.value(section["propagation"]).read(DESCRIPTION["propagation"], known))
 
     _check_statically_determined(bcs, domain)
 
