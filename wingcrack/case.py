@@ -662,13 +662,17 @@ class _Table:
         return values
 
     def value(self, k: Key, values: dict | None = None, known: dict | None = None):
+        """Key k's value, converted and checked (`values`: the table's keys
+        read before it), or its default."""
         key = self.key(k.name)
         if k.name not in self.data:
             if k.default is REQUIRED:
                 raise CaseError(key, "missing (required table)" if k.type == TABLE else "missing (required)")
             if isinstance(k.default, Ref):
                 return known[k.default.key]
-            return {TABLE: lambda: _Table({}, key), TABLES: list}.get(k.type, lambda: k.default)()
+            if k.type == TABLE:  # an optional table left out reads as an empty one
+                return _Table({}, key)
+            return [] if k.type == TABLES else k.default
         v = _READERS[k.type](self.data[k.name], key)
         k.check(v, key, values or {}, known or {})
         return v
