@@ -152,6 +152,45 @@ def test_ten_megabyte_file_is_refused_unread(tmp_path):
     assert not out.exists()
 
 
+def test_half_a_megabyte_title_is_refused(tmp_path, capfd):
+    # The issue's reproduction: 500,000 characters overflowed matplotlib's
+    # raster when fractures.png was drawn, after the solve. The corpus holds
+    # a 1,000-character one (title_huge.toml).
+    path = tmp_path / "case.toml"
+    path.write_text(base_text().replace('title = "plate with an inclined crack"', 'title = "' + "x" * 500_000 + '"'))
+    for argv in (["check", str(path)], ["sif", str(path), "-o", str(tmp_path / "out")]):
+        assert_refused(*run_main(argv, capfd), "title", "got 500000")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("kind", ["fifo", "directory", "dev-zero"])
+def test_a_case_that_is_not_a_regular_file_is_refused(kind, tmp_path, capfd):
+    """A FIFO blocked `check` forever (open waits for a writer); a directory
+    and /dev/zero are no case either. Refused before reading, naming the file;
+    the alarm turns a hang into a failure."""
+    import os
+    import signal
+
+    path = {"fifo": tmp_path / "case.toml", "directory": tmp_path / "dir.toml", "dev-zero": Path("/dev/zero")}[kind]
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "directory":
+        path.mkdir()
+
+    def hung(signum, frame):
+        raise TimeoutError(f"{kind}: the CLI blocked")
+
+    old = signal.signal(signal.SIGALRM, hung)
+    signal.setitimer(signal.ITIMER_REAL, 20.0)
+    try:
+        for argv in (["check", str(path)], ["sif", str(path), "-o", str(tmp_path / "out")]):
+            assert_refused(*run_main(argv, capfd), str(path), "not a regular file")
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+    assert not (tmp_path / "out").exists()
+
+
 # ---------------------------------------------------------------- valid neighbours of the new checks
 
 
@@ -196,3 +235,56 @@ def test_domain_at_the_ends_of_the_verified_range(tmp_path, scale):
     path = tmp_path / "case.toml"
     path.write_text(text)
     assert len(Case.from_toml(path).tips()) == 2
+
+
+# E and the loads at the two ends of what `check` accepts: the case of the
+# issue's reproductions (a 2 m plate, a 0.28 m crack at 45 degrees, tractions
+# sigma on top and bottom) with E at 1 kPa and sigma = 0.1 E, and with E at
+# 1e13 Pa and sigma = 0.1 E; the middle one is the base case.
+LIMITS_BASE = """
+[material]
+E = {E}
+nu = 0.25
+KIc = {KIc}
+[domain]
+shape = "rectangle"
+corner = [-1.0, -1.0]
+size = [2.0, 2.0]
+[[fractures]]
+points = [[-0.1, -0.1], [0.1, 0.1]]
+[[bc]]
+on = "top"
+traction = [0.0, {s}]
+[[bc]]
+on = "bottom"
+traction = [0.0, -{s}]
+[[bc]]
+at = [-1.0, 0.0]
+displacement = [0.0, 0.0]
+[[bc]]
+at = [1.0, 0.0]
+displacement_y = 0.0
+[mesh]
+size = 0.2
+tip_size = 0.02
+"""
+
+
+def test_the_magnitude_limits_solve_cleanly(tmp_path, capfd):
+    """With traction loads K does not depend on E and is linear in sigma, and
+    the geometry, hence the mesh, is the same: K / sigma must agree across 13
+    orders of magnitude of E up to the solve's rounding (measured 1e-10
+    relative; 1e-8 allowed). A NaN, an overflow or an exit other than 0 fails."""
+    import json
+
+    ratios = []
+    for E, KIc in ((1e3, 1.0), (1e10, 1e6), (1e13, 1e9)):
+        path, out = tmp_path / f"E{E:g}.toml", tmp_path / f"out{E:g}"
+        path.write_text(LIMITS_BASE.format(E=E, KIc=KIc, s=0.1 * E))
+        rc, _, err = run_main(["-q", "sif", str(path), "-o", str(out)], capfd)
+        assert rc == 0, err
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["status"] == "finished"
+        ratios.append([t[k] / (0.1 * E) for t in summary["steps"][0]["tips"] for k in ("KI", "KII")])
+    for r in ratios[::2]:
+        assert r == pytest.approx(ratios[1], rel=1e-8)

@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import copy
 import math
+import os
+import signal
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from wingcrack.case import BC, Case, Fracture, Material, MeshOptions, Propagation, Tip
+from wingcrack import case_doc
+from wingcrack.case import BC, DESCRIPTION, Case, Material, MeshOptions, Propagation, Tip
 from wingcrack.errors import CaseError
 
 CASES = sorted((Path(__file__).resolve().parents[1] / "cases").glob("*.toml"))
@@ -215,6 +218,32 @@ INVALID = [
     bad("load-unknown", [("propagation", {"load": "ramp"})], "propagation.load", '"scale" | "fixed"'),
     bad("max-load-factor-zero", [("propagation", {"max_load_factor": 0.0})], "propagation.max_load_factor",
         "must be > 0"),
+    bad("sif-unknown", [("propagation", {"sif": "j-integral"})], "propagation.sif", '"correlation" | "interaction"'),
+    # magnitudes no case may ask for: each overflowed or underflowed in the solve
+    bad("E-tiny", [("material.E", 1e-300)], "material.E", "must lie within 1000 .. 1e+13 Pa"),
+    bad("E-subnormal", [("material.E", 5e-324)], "material.E", "must lie within 1000 .. 1e+13 Pa"),
+    bad("E-below-gels", [("material.E", 999.0)], "material.E", "must lie within"),
+    bad("E-huge", [("material.E", 1e300)], "material.E", "must lie within"),
+    bad("KIc-tiny", [("material.KIc", 1e-300)], "material.KIc", "must lie within 1 .. 1e+09"),
+    bad("KIc-huge", [("material.KIc", 1e300)], "material.KIc", "must lie within"),
+    bad("density-huge", [("material.density", 1e200)], "material.density", "at most 100000 kg/m^3"),
+    bad("gravity-huge", [("material.density", 2700.0), ("body", {"gravity": [0.0, -1e300]})], "body.gravity[1]",
+        "at most 0.1 E / (density L) = 8.282e+04 m/s^2"),
+    bad("stress-huge", [("stress", {"sxx": -1e300})], "stress.sxx", "at most 0.1 E = 1e+09 Pa in magnitude"),
+    bad("stress-over-a-tenth-of-E", [("stress", {"sxy": 1.01e9})], "stress.sxy", "0.1 E"),
+    bad("traction-huge", [("bc.0.traction", [1e300, 0.0])], "bc[0].traction[0]", "0.1 E"),
+    bad("force-huge", [("domain", _DISC), ("fractures", _DISC_FRACTURE), ("bc", _DISC_BC),
+                       ("bc.0.force", [0.0, -1e300])], "bc[0].force[1]", "0.1 E L = 2e+09 N/m"),
+    bad("displacement-huge", [("bc.2.displacement", [0.0, 1e300])], "bc[2].displacement[1]", "0.1 L"),
+    bad("displacement-x-huge", [("bc.3.displacement_x", -1e300)], "bc[3].displacement_x", "0.1 L"),
+    bad("slip-huge", [("fractures.0.faces", "slip"), ("fractures.0.slip", 1e300)], "fractures[0].slip", "0.1 L"),
+    bad("slip-huge-on-open-faces", [("fractures.0.slip", 1e300)], "fractures[0].slip", 'only with faces = "slip"'),
+    bad("gap-huge", [("fractures.0.gap", 1e300)], "fractures[0].gap", "0.1 L"),
+    bad("mesh-size-huge", [("mesh.size", 1e300)], "mesh.size", "at most L = 4.472 m"),
+    bad("length-huge", [("propagation", {"length": 1e300})], "propagation.length", "at most L = 4.472 m"),
+    bad("max-load-factor-huge", [("propagation", {"max_load_factor": 1e300})], "propagation.max_load_factor",
+        "at most 1e+09"),
+    bad("title-huge", [("title", "x" * 500_000)], "title", "at most 200 characters"),
     # statically undetermined
     bad("no-supports", [("bc", BASE["bc"][:2])], "bc", "translation x, translation y and rotation are free"),
     bad("no-bc-at-all", [("bc", DELETE)], "bc", "statically undetermined"),
@@ -262,7 +291,8 @@ def test_defaults():
     f = case.fractures[1]
     assert (f.faces, f.slip, f.gap, f.grow, f.slip_profile) == ("open", 0.0, 0.0, True, "uniform")
     assert case.mesh == MeshOptions(size=0.2, tip_size=0.05, adaptive=True, sectors=32)
-    assert case.propagation == Propagation(length=0.05, steps=35, alpha=0.35, load="scale", max_load_factor=100.0)
+    assert case.propagation == Propagation(length=0.05, steps=35, alpha=0.35, load="scale", max_load_factor=100.0,
+                                           sif="correlation")
     assert case.body.gravity == (0.0, 0.0)
     assert np.all(case.stress.tensor() == 0.0)
 
@@ -274,7 +304,8 @@ def test_optional_sections_are_read():
         ("stress", {"sxx": -1.0e7, "syy": -2.7e7}),
         ("mesh.adaptive", False),
         ("mesh.sectors", 8),
-        ("propagation", {"steps": 0, "length": 0.01, "alpha": 1, "load": "fixed", "max_load_factor": 5}),
+        ("propagation", {"steps": 0, "length": 0.01, "alpha": 1, "load": "fixed", "max_load_factor": 5,
+                         "sif": "interaction"}),
         ("fractures.0.faces", "slip"),
         ("fractures.0.slip", 1e-4),
         ("fractures.0.slip_profile", "elliptic"),
@@ -286,7 +317,8 @@ def test_optional_sections_are_read():
     assert case.body.gravity == (0.0, -9.8)
     assert np.allclose(case.stress.tensor(), [[-1.0e7, 0.0], [0.0, -2.7e7]])
     assert case.mesh == MeshOptions(0.2, 0.05, False, 8)
-    assert case.propagation == Propagation(length=0.01, steps=0, alpha=1.0, load="fixed", max_load_factor=5.0)
+    assert case.propagation == Propagation(length=0.01, steps=0, alpha=1.0, load="fixed", max_load_factor=5.0,
+                                           sif="interaction")
     f = case.fractures[0]
     assert (f.faces, f.slip, f.slip_profile, f.gap, f.grow) == ("slip", 1e-4, "elliptic", 1e-5, False)
 
@@ -331,16 +363,6 @@ def test_bc_points_are_distinct_points():
     case = Case.from_dict(patched(("bc.4", {"at": [4.0, 1.0], "force": [1.0, 0.0]})))
     pts = case.bc_points()
     assert [tuple(p) for p in pts] == [(4.0, 1.0), (2.0, 0.0)]
-
-
-def test_at_load_scales_conditions_and_slip_only():
-    d = patched(("fractures.0.faces", "slip"), ("fractures.0.slip", 1e-4), ("stress", {"sxx": -1.0}))
-    case = Case.from_dict(d).at_load(2.5)
-    assert case.bcs[0].value == (0.0, 2.5e6)
-    assert case.bcs[3].components == (True, False)
-    assert math.isclose(case.fractures[0].slip, 2.5e-4)
-    assert case.stress.sxx == -1.0
-    assert np.array_equal(case.fractures[0].points, d["fractures"][0]["points"])
 
 
 def test_polygon_domain_and_edge_names():
@@ -431,11 +453,6 @@ def test_brazilian_disc_45_matches_the_paper():
     assert all(bc.kind == "displacement" and not np.any(bc.value) for bc in case.bcs if bc.kind != "force")
 
 
-def test_fracture_dataclass_scaled_keeps_points():
-    f = Fracture(np.zeros((2, 2)), faces="slip", slip=1.0)
-    assert f.scaled(3.0).slip == 3.0 and f.scaled(3.0).points is f.points
-
-
 def test_what_the_contract_example_writes_is_accepted():
     """The shared contract's example writes slip = 0.0 on frictionless faces
     and gravity with density 0.0: a zero slip and a zero body force are no
@@ -448,3 +465,115 @@ def test_what_the_contract_example_writes_is_accepted():
     d["material"]["density"] = 0.0
     case = Case.from_dict(d)
     assert case.fractures[0].slip == 0.0 and case.material.density == 0.0
+
+
+def test_uniform_slip_profile_is_no_condition():
+    """Like slip = 0.0, the default profile names no condition: accepted on any faces."""
+    assert Case.from_dict(patched(("fractures.1.slip_profile", "uniform"))).fractures[1].slip_profile == "uniform"
+
+
+@pytest.mark.parametrize("changes", [
+    [("material.E", 1e3), ("bc.0.traction", [0.0, 100.0]), ("bc.1.traction", [0.0, -100.0])],
+    [("material.E", 1e13)], [("material.KIc", 1.0)], [("material.KIc", 1e9)],
+    [("material.density", 1e5)],
+    [("stress", {"sxx": -1e9, "syy": 1e9, "sxy": -1e9})],        # 0.1 E
+    [("bc.0.traction", [1e9, -1e9])],
+    [("bc.2.displacement", [0.4472, -0.4472])],                   # 0.1 L, L = sqrt(20) m
+    [("propagation", {"length": 4.472, "max_load_factor": 1e9})],  # L
+    [("mesh", {"size": 4.472, "tip_size": 0.05})],
+    [("title", "x" * 200)],
+    # with density 0 gravity is no body force, whatever its size
+    [("body", {"gravity": [0.0, -1e300]})],
+    # the weight of the 4.47 m domain, density g L, at 0.1 E
+    [("material.density", 1e4), ("body", {"gravity": [0.0, -1e9 / (1e4 * 20 ** 0.5) * 0.999]})],
+], ids=["E-lo", "E-hi", "KIc-lo", "KIc-hi", "density", "stress", "traction", "displacement", "length",
+        "mesh-size", "title", "gravity-no-density", "gravity-weight"])
+def test_magnitudes_at_their_limits_are_accepted(changes):
+    assert Case.from_dict(patched(*changes)).title
+
+
+def _fifo(tmp_path):
+    path = tmp_path / "case.toml"
+    os.mkfifo(path)
+    return path
+
+
+@pytest.mark.parametrize("make, kind", [
+    (_fifo, "a FIFO"),
+    (lambda tmp_path: tmp_path, "a directory"),
+    (lambda tmp_path: Path("/dev/zero"), "a character device"),
+], ids=["fifo", "directory", "dev-zero"])
+def test_from_toml_refuses_what_is_not_a_regular_file(tmp_path, make, kind):
+    """Refused before reading: opening a FIFO for reading would wait for a
+    writer forever and /dev/zero never ends, so an alarm guards the test."""
+    path = make(tmp_path)
+
+    def hung(signum, frame):
+        raise TimeoutError(f"Case.from_toml({path}) blocked")
+
+    old = signal.signal(signal.SIGALRM, hung)
+    signal.setitimer(signal.ITIMER_REAL, 10.0)
+    try:
+        with pytest.raises(CaseError) as info:
+            Case.from_toml(path)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+    assert info.value.key == str(path)
+    assert info.value.reason.startswith(f"not a regular file ({kind})")
+
+
+# ---------------------------------------------------------------- the reference and the description
+
+
+DOC = Path(__file__).resolve().parents[1] / "docs" / "case-format.md"
+
+
+def test_reference_tables_are_rendered_from_the_description():
+    """docs/case-format.md holds a key table for every table of the case, each
+    exactly as wingcrack.case_doc renders it (`python -m wingcrack.case_doc`)."""
+    text = DOC.read_text()
+    assert case_doc.blocks(text) == list(DESCRIPTION)
+    assert case_doc.render(text) == text
+
+
+def test_every_key_is_documented_with_its_default():
+    text = DOC.read_text()
+    for name, keys in DESCRIPTION.items():
+        rendered = case_doc.table(name, keys)
+        for k in keys:
+            assert k.doc, f"{name}.{k.name} has no doc"
+            row = next(line for line in rendered.splitlines() if line.startswith(f"| `{k.name}`"))
+            assert row in text
+        # and the doc's table holds no key the description lacks
+        block = text.split(f"<!-- keys: {name} -->")[1].split("<!-- end keys -->")[0]
+        documented = [line.split("`")[1] for line in block.splitlines() if line.startswith("| `")]
+        assert documented == [k.name for k in keys]
+
+
+def test_every_key_of_the_description_is_read():
+    """A case that gives every key of the description at its default reads
+    back as the case that leaves them out: the defaults written once in the
+    Keys are the ones applied, and every Key is a key the reader takes."""
+    d = patched(("material.thickness", 1.0), ("material.density", 0.0), ("body", {"gravity": [0.0, 0.0]}),
+                ("stress", {"sxx": 0.0, "syy": 0.0, "sxy": 0.0}), ("mesh.adaptive", True), ("mesh.sectors", 32),
+                ("propagation", {"steps": 35, "length": 0.05, "alpha": 0.35, "load": "scale",
+                                 "max_load_factor": 100.0, "sif": "correlation"}),
+                ("fractures.1.faces", "open"), ("fractures.1.slip", 0.0), ("fractures.1.gap", 0.0),
+                ("fractures.1.grow", True), ("fractures.1.slip_profile", "uniform"))
+    given = {name: set() for name in DESCRIPTION}
+    given["top"] = set(d)
+    for name in ("material", "mesh", "body", "stress", "propagation"):
+        given[name] = set(d[name])
+    given["domain"] = set(d["domain"])
+    given["fractures"] = set(d["fractures"][1])
+    given["bc"] = {k for bc in d["bc"] for k in bc}
+    for name, keys in DESCRIPTION.items():
+        if name not in ("domain", "bc"):  # one shape, one condition kind at a time
+            assert given[name] == {k.name for k in keys}, name
+    given_all, defaults = Case.from_dict(d), Case.from_dict(BASE)
+    for part in ("material", "body", "stress", "mesh", "propagation"):
+        assert getattr(given_all, part) == getattr(defaults, part), part
+    f, g = given_all.fractures[1], defaults.fractures[1]
+    names = [k.name for k in DESCRIPTION["fractures"] if k.name != "points"]
+    assert [getattr(f, n) for n in names] == [getattr(g, n) for n in names]

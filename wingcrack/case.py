@@ -5,16 +5,31 @@ file, `Case.from_dict(d)` a parsed table; both return a `Case` whose every part
 has been checked, or raise `CaseError(key, reason)` naming the first offending
 key by its full path (``mesh.tip_size``, ``fractures[1].points[0]``, ``bc[2].at``).
 
+Every key is described once, below, as a `Key` (type, unit, default, the range
+its meaning allows, the magnitude a case may ask for, documentation): on the
+field of the dataclass that holds it (`Material.E`), or, where the file's
+layout is not the dataclass's (`[domain]`, `[[bc]]`, the top level), in a
+tuple of Keys. One reader, `_Table.read`, checks a table against its Keys;
+the rules that tie keys together (one place and one condition per `[[bc]]`,
+tip_size below size) follow it, then the geometric checks, then the rigid-body
+check. docs/case-format.md's key tables are rendered from the Keys
+(`python -m wingcrack.case_doc`).
+
 Units are SI throughout (m, Pa, N; a point force is N per metre of thickness).
-Points are (x, y) float64. Load scaling: every bc force, traction and
-displacement and every prescribed fracture slip is multiplied by the load
-factor (`Case.at_load`); the initial stress and gravity are not.
+Points are (x, y) float64. Load scaling (done by the solver, not here): every
+bc force, traction and displacement and every prescribed fracture slip is
+multiplied by the load factor; the initial stress and gravity are not.
 """
 from __future__ import annotations
 
+import dataclasses
 import difflib
+import functools
 import math
+import os
+import stat
 import tomllib
+import typing
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -29,6 +44,7 @@ SHAPES = ("disc", "rectangle", "polygon")
 FACES = ("open", "frictionless", "slip")
 SLIP_PROFILES = ("uniform", "elliptic")
 LOADS = ("scale", "fixed")
+SIFS = ("correlation", "interaction")
 #: Relative tolerance (times the domain length scale) for "on the boundary",
 #: "touching" and "zero length".
 REL_TOL = 1e-9
@@ -55,58 +71,217 @@ MAX_SECTORS = 360
 #: The most fractures, points per polyline and boundary conditions: the
 #: pairwise checks are quadratic in these.
 MAX_ITEMS = 1000
+#: The largest stress a case may ask for, as a fraction of E (tractions, the
+#: in-situ stress, the weight of the domain), and the largest displacement,
+#: slip or gap as a fraction of the domain size: a strain of 10 % is already
+#: beyond linear elasticity, and every product the solver forms stays finite.
+MAX_STRAIN = 0.1
+
+
+# ---------------------------------------------------------------- the description
+
+NUMBER, INTEGER, BOOLEAN, STRING = "number", "integer", "boolean", "string"
+POINT, POINTS, TABLE, TABLES = "[x, y]", "[[x, y], ...]", "table", "array of tables"
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+REQUIRED = _Required()
+
+
+@dataclass(frozen=True)
+class Ref:
+    """A default taken from another key of the case, named by its full path."""
+
+    key: str
+
+
+@dataclass(frozen=True)
+class Range:
+    """What the key's meaning allows: lo < x < hi (`open`) or lo <= x <= hi;
+    either end may be None. `note` is added to the message."""
+
+    lo: float | None = None
+    hi: float | None = None
+    open: bool = False
+    note: str = ""
+
+    def check(self, x, key: str, what: str = "") -> None:
+        got = f"{x:g}" if isinstance(x, float) else str(x)
+        lo, hi = self.lo, self.hi
+        if lo is not None and hi is not None and self.open:
+            if not lo < x < hi:
+                raise CaseError(key, f"{what}must lie in ({lo:g}, {hi:g}){self.note}, got {got}")
+            return
+        if lo is not None and not (x > lo if self.open else x >= lo):
+            raise CaseError(key, f"{what}must be {'>' if self.open else '>='} {lo:g}{self.note}, got {got}")
+        if hi is not None and not (x < hi if self.open else x <= hi):
+            raise CaseError(key, f"{what}must be {'<' if self.open else '<='} {hi:g}{self.note}, got {got}")
+
+
+POSITIVE = Range(0, open=True)
+NON_NEGATIVE = Range(0)
+
+
+@dataclass(frozen=True)
+class Limit:
+    """The magnitude a case may ask for, lo*scale <= |x| <= hi*scale, where
+    `of` names a scale of the case ("E", "L", "E L", "E / (density L)"; ""
+    for none) and `why` says where the bound comes from. A string's limit
+    counts its characters. These bound what the meaning would allow, so that
+    nothing a case asks for overflows or underflows in the solve."""
+
+    lo: float = 0.0
+    hi: float = math.inf
+    of: str = ""
+    why: str = ""
+
+    def check(self, x, key: str, unit: str, signed: bool, scales: dict) -> None:
+        if isinstance(x, str):
+            if len(x) > self.hi:
+                raise CaseError(key, f"at most {self.hi:g} characters ({self.why}), got {len(x)}")
+            return
+        scale = scales[self.of] if self.of else 1.0
+        if abs(x) <= self.hi * scale and (self.lo == 0 or abs(x) >= self.lo * scale):
+            return
+        unit = f" {unit}" if unit else ""
+        if self.lo > 0:
+            raise CaseError(key, f"must lie within {self.lo:g} .. {self.hi:g}{unit} ({self.why}), got {x:g}")
+        bound = f"{self.bound} = {self.hi * scale:.4g}{unit}" if self.of else f"{self.hi:g}{unit}"
+        size = " in magnitude" if signed else ""
+        raise CaseError(key, f"must be at most {bound}{size} ({self.why}), got {x:g}")
+
+    @property
+    def bound(self) -> str:
+        """The upper bound as text: "0.1 E", "L", "1e+09"."""
+        return self.of if self.of and self.hi == 1 else f"{self.hi:g} {self.of}".strip()
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a case table.
+
+    name and type (NUMBER, INTEGER, BOOLEAN, STRING, POINT, POINTS, TABLE,
+    TABLES) come from the dataclass field when the Key sits on one. default:
+    REQUIRED, a value, None (absent means not given) or a Ref. choices: the
+    allowed strings. range: what the meaning allows (a point's components
+    each, named by `parts`). limit: the magnitude a case may ask for.
+    only_with (key, value): a value other than the default only when that
+    earlier key of the table has that value. min_points with `noun`: the
+    fewest points of a POINTS key. doc: the reference's text; `rule`: what the
+    checks further on ask of it; added: a key wingcrack adds to the contract.
+    """
+
+    name: str = ""
+    type: str = ""
+    default: object = REQUIRED
+    unit: str = ""
+    choices: tuple[str, ...] = ()
+    range: Range | None = None
+    limit: Limit | None = None
+    only_with: tuple[str, str] | None = None
+    parts: tuple[str, ...] = ()
+    min_points: int = 0
+    noun: str = ""
+    doc: str = ""
+    rule: str = ""
+    default_doc: str = ""
+    added: bool = False
+
+    @property
+    def signed(self) -> bool:
+        return self.range is None or self.range.lo is None or self.range.lo < 0
+
+    def check(self, v, key: str, values: dict, known: dict) -> None:
+        """Everything this key asks of its (converted) value v."""
+        if self.choices and v not in self.choices:
+            options = " | ".join(f'"{c}"' for c in self.choices)
+            raise CaseError(key, f'"{v}" is not one of {options}')
+        if self.type == POINTS and len(v) < self.min_points:
+            raise CaseError(key, f"{self.noun} needs at least {self.min_points} points, got {len(v)}")
+        if self.only_with is not None:
+            other, want = self.only_with
+            if v != self.default and values[other] != want:
+                raise CaseError(key, f'only with {other} = "{want}" ({other} is "{values[other]}")')
+        items = list(enumerate(v)) if self.type == POINT else [(None, v)]
+        for i, x in items:
+            at = key if i is None else f"{key}[{i}]"
+            if self.range is not None:
+                self.range.check(x, at, f"{self.parts[i]} " if self.parts else "")
+            if self.limit is not None:
+                self.limit.check(x, at, self.unit, self.signed, known)
+
+
+def key(default=REQUIRED, **spec) -> dataclasses.Field:
+    """A dataclass field described by a Key (its name and type are the field's)."""
+    k = Key(default=default, **spec)
+    if default is REQUIRED or isinstance(default, Ref):
+        return field(metadata={"key": k})
+    return field(default=default, metadata={"key": k})
+
+
+_TYPES = {float: NUMBER, int: INTEGER, bool: BOOLEAN, str: STRING, tuple[float, float]: POINT, np.ndarray: POINTS}
+
+
+@functools.cache
+def keys_of(cls) -> tuple[Key, ...]:
+    """The Keys on the fields of dataclass `cls`, in field order."""
+    hints = typing.get_type_hints(cls)
+    return tuple(replace(f.metadata["key"], name=f.name, type=_TYPES[hints[f.name]])
+                 for f in dataclasses.fields(cls) if "key" in f.metadata)
 
 
 # ---------------------------------------------------------------- data model
 
+_SMALL = "beyond it strains are not small and linear elasticity fails"
+
 
 @dataclass(frozen=True)
 class Material:
-    """Linear elastic isotropic material.
+    """Linear elastic isotropic material."""
 
-    E: Young's modulus (Pa), > 0. nu: Poisson's ratio, in (-1, 0.5).
-    KIc: fracture toughness (Pa m^0.5), > 0. plane: "stress" (default, as the
-    contract example) or "strain". thickness: out-of-plane thickness (m),
-    default 1.0. density: kg/m^3, default 0.0 (used only with body.gravity).
-    """
-
-    E: float
-    nu: float
-    KIc: float
-    plane: str = "stress"
-    thickness: float = 1.0
-    density: float = 0.0
+    E: float = key(unit="Pa", range=POSITIVE, doc="Young's modulus.",
+                   limit=Limit(1e3, 1e13, why="from soft gels, 1 kPa, to above diamond, 1.2e12 Pa"))
+    nu: float = key(range=Range(-1.0, 0.5, open=True), doc="Poisson's ratio.")
+    KIc: float = key(unit="Pa m^0.5", range=POSITIVE, doc="Fracture toughness. A tip grows when its K_eq reaches "
+                     "KIc.", limit=Limit(1.0, 1e9, why="from below the softest gels, ~10, to five times the toughest "
+                                                       "steels, ~2e8"))
+    plane: str = key("stress", choices=PLANES, doc="Plane stress or plane strain: E' = E, or E/(1-nu^2).")
+    thickness: float = key(1.0, unit="m", range=POSITIVE, doc="Checked and printed by `check`, but no result "
+                           "depends on it: loads and results are per metre of thickness.")
+    density: float = key(0.0, unit="kg/m^3", range=NON_NEGATIVE, doc="Used only with a non-zero `body.gravity` "
+                         "(with density 0 there is no body force).",
+                         limit=Limit(hi=1e5, why="osmium, the densest element, has 22,590 kg/m^3"))
 
 
 @dataclass(frozen=True, eq=False)
 class Fracture:
-    """A pre-existing fracture: a polyline `points` (n, 2), n >= 2, read-only.
+    """A pre-existing fracture: a polyline `points` (n, 2), n >= 2, read-only."""
 
-    Direction d runs from point 0 to point n-1 (docs/architecture.md).
-    faces: "open" (default, traction free), "frictionless" (contact, no
-    friction) or "slip" (prescribed tangential jump). slip: [u].t in m, only
-    with faces = "slip", default 0.0; scaled by the load factor.
-    slip_profile: "uniform" (default) or "elliptic" (slip * sqrt(1 - (2s/L - 1)^2)
-    along the arc length s of a fracture of length L), only with faces = "slip".
-    gap: initial normal gap g >= 0 (m), default 0.0. grow: may its tips grow
-    wing cracks, default True.
-    """
-
-    points: np.ndarray
-    faces: str = "open"
-    slip: float = 0.0
-    gap: float = 0.0
-    grow: bool = True
-    slip_profile: str = "uniform"
+    points: np.ndarray = key(unit="m", min_points=2, noun="a fracture", rule="the geometry checks below",
+                             doc="The polyline. Its direction d runs from point 0 to point n-1. The + face is on the "
+                                 "left of d, and the tip frames and the `end` numbers in `summary.json` follow it.")
+    faces: str = key("open", choices=FACES, doc="`open`: traction free, with no contact condition (the faces may "
+                     "interpenetrate). `frictionless`: non-penetration w + gap >= 0, no friction. `slip`: "
+                     "non-penetration, and the tangential jump [u].t is prescribed.")
+    slip: float = key(0.0, unit="m", only_with=("faces", "slip"), doc="Prescribed [u].t = u(+) - u(-) along d. "
+                      "The load factor scales it.", limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL))
+    gap: float = key(0.0, unit="m", range=NON_NEGATIVE, doc="Initial normal gap g. It acts on `frictionless` and "
+                     "`slip` faces. It is accepted on `open` faces, where it has no effect.",
+                     limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL))
+    grow: bool = key(True, doc="Whether this fracture's tips may grow wing cracks.")
+    slip_profile: str = key("uniform", choices=SLIP_PROFILES, only_with=("faces", "slip"), added=True,
+                            doc="`uniform`: the same slip everywhere, which acts as a dislocation at the tips, so K "
+                                "depends on `mesh.tip_size`. `elliptic`: slip·sqrt(1 - (2s/L - 1)^2) along the arc "
+                                "length s of a fracture of length L, which gives a mesh-independent KII.")
 
     @property
     def length(self) -> float:
         """Arc length (m)."""
         return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
-
-    def scaled(self, factor: float) -> Fracture:
-        """The same fracture with its prescribed slip times `factor`."""
-        return replace(self, slip=self.slip * factor)
 
 
 @dataclass(frozen=True)
@@ -130,7 +305,7 @@ class BC:
       prescribed (displacement_x / displacement_y prescribe one; the value of a
       free component is 0.0 and means nothing).
     For force and traction `components` is (True, True). Every value is scaled
-    by the load factor.
+    by the load factor. The file's keys are BC_KEYS.
     """
 
     kind: str
@@ -139,26 +314,30 @@ class BC:
     on: str | None = None
     components: tuple[bool, bool] = (True, True)
 
-    def scaled(self, factor: float) -> BC:
-        """The same condition with its value times `factor`."""
-        return replace(self, value=(self.value[0] * factor, self.value[1] * factor))
-
 
 @dataclass(frozen=True)
 class Body:
-    """Body force: gravity (m/s^2, global x/y), default (0, 0); acts through
-    material.density (with density 0 there is no body force)."""
+    """Body force; acts through material.density (with density 0 there is none)."""
 
-    gravity: tuple[float, float] = (0.0, 0.0)
+    gravity: tuple[float, float] = key((0.0, 0.0), unit="m/s^2", doc="Body force density·gravity (none when "
+                                       "`material.density` is 0). It is not scaled by the load factor.",
+                                       limit=Limit(hi=MAX_STRAIN, of="E / (density L)",
+                                                   why="the weight of the domain, density |g| L, below "
+                                                       f"{MAX_STRAIN:g} E"))
+
+
+_IN_SITU = ("Initial (in-situ) stress sigma0, uniform, compression < 0. It is not scaled by the load factor. The "
+            "total stress is sigma0 + C:eps(u), and u is measured from the in-situ state. Reported stresses and "
+            "SIFs are totals.")
 
 
 @dataclass(frozen=True)
 class Stress:
-    """Initial (in situ) stress in Pa, compression < 0; default all 0.0. Not scaled."""
+    """Initial (in situ) stress in Pa, compression < 0. Not scaled."""
 
-    sxx: float = 0.0
-    syy: float = 0.0
-    sxy: float = 0.0
+    sxx: float = key(0.0, unit="Pa", doc=_IN_SITU, limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL))
+    syy: float = key(0.0, unit="Pa", doc="As `sxx`.", limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL))
+    sxy: float = key(0.0, unit="Pa", doc="As `sxx`.", limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL))
 
     def tensor(self) -> np.ndarray:
         """The 2x2 stress tensor (Pa)."""
@@ -167,36 +346,103 @@ class Stress:
 
 @dataclass(frozen=True)
 class MeshOptions:
-    """Mesh sizing. size: target element size away from fractures (m), required.
-    tip_size: crack-tip rosette radius h (m), required, < size and < the
-    shortest fracture segment. adaptive: error-estimator-driven sizing between
-    steps, default True. sectors: elements in a tip rosette, int >= 8,
-    default 32: displacement correlation's KII is 0.7% off with 16 sectors,
-    0.3% with 32 (see the README); below 16 only for convergence studies.
-    """
+    """Mesh sizing."""
 
-    size: float
-    tip_size: float
-    adaptive: bool = True
-    sectors: int = 32
+    size: float = key(unit="m", range=POSITIVE, doc="Target element size away from the fractures.",
+                      limit=Limit(hi=1.0, of="L", why="an element no larger than the domain"),
+                      rule=f"at most about {MAX_ELEMENTS:,} triangles (area / (sqrt(3)/4 · size^2))")
+    tip_size: float = key(unit="m", range=POSITIVE, doc="Radius h of the structured crack-tip rosette. The "
+                          "quarter-point elements sit next to the tip.",
+                          rule=f"< `size`, < the shortest fracture segment, >= {MIN_TIP_FRACTION:g} L; its rosette "
+                               "must stay clear of the boundary and of other fractures")
+    adaptive: bool = key(True, doc="`run` only: each step's mesh is sized from the previous step's error estimate.")
+    sectors: int = key(32, range=Range(8, MAX_SECTORS, note=" (32 recommended)"), added=True,
+                       doc="Triangles per tip rosette. Displacement correlation's KII error is 2.5 % at 8 sectors, "
+                           "0.7 % at 16 and 0.3 % at 32. Use fewer than 16 only for convergence studies.")
 
 
 @dataclass(frozen=True)
 class Propagation:
-    """Growth control. steps: most propagation steps, int >= 0, default 35.
-    length: Lmax, the longest advance of any tip in one step (m), default
-    mesh.tip_size (the paper's choice for a single crack). alpha: exponent of
-    the growth law L_adv = Lmax (G / max G)^alpha, default 0.35.
-    load: "scale" (default: every bc and slip scaled by one factor that rises
-    until a tip reaches KIc) or "fixed" (factor 1). max_load_factor: the
-    scaling gives up above this factor, default 100.0.
-    """
+    """Growth control (only `run` reads it)."""
 
-    length: float
-    steps: int = 35
-    alpha: float = 0.35
-    load: str = "scale"
-    max_load_factor: float = 100.0
+    length: float = key(Ref("mesh.tip_size"), unit="m", range=POSITIVE,
+                        doc="Lmax: the longest advance of any tip in one step.",
+                        limit=Limit(hi=1.0, of="L", why="no step longer than the domain"))
+    steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. With `0`, `run` does nothing "
+                     "(use `sif`).")
+    alpha: float = key(0.35, range=POSITIVE, doc="The growth-law exponent: L_i = Lmax (G_i / max G)^alpha over the "
+                       "tips with K_eq >= KIc (relative tolerance 1e-3). A tip whose L_i < 0.4·`mesh.tip_size` does "
+                       "not advance, unless it grows straight on.")
+    load: str = key("scale", choices=LOADS, doc="`scale`: one load factor multiplies every bc value and every "
+                    "fracture slip. It starts at 0, and each step it rises to the smallest factor at which the "
+                    "first tip reaches KIc, never below the previous step's. `fixed`: the factor is 1, and the run "
+                    "stops when no tip reaches KIc.")
+    max_load_factor: float = key(100.0, range=POSITIVE, added=True,
+                                 doc="With `load = \"scale\"`, the run stops (\"no tip reaches KIc below the load "
+                                     "factor limit\") if the critical factor would exceed this.",
+                                 limit=Limit(hi=1e9, why="a larger factor means loads in the wrong unit; the search "
+                                                         "doubles the factor, 30 solves up to 1e9"))
+    sif: str = key("correlation", choices=SIFS, doc="Which SIFs drive growth: displacement correlation (the "
+                   "paper's) or the interaction integral.")
+
+
+# The layouts that are not a dataclass's: the top level, [domain], [[bc]].
+
+TOP_KEYS = (
+    Key("title", STRING, "", default_doc="the file name without `.toml` (`Case.from_dict` gives `\"\"`)",
+        doc="The name shown in `check`, in pictures and in `summary.json`.",
+        limit=Limit(hi=200, why="one line of a picture's title")),
+    Key("material", TABLE, doc="See below."),
+    Key("domain", TABLE, doc="See below."),
+    Key("fractures", TABLES, None, default_doc="none", doc="Pre-existing fractures. A case with no fractures is valid.",
+        rule=f"at most {MAX_ITEMS} entries"),
+    Key("bc", TABLES, None, default_doc="none", rule=f"at most {MAX_ITEMS} entries",
+        doc="Boundary conditions, in file order. Without displacement conditions the case is statically "
+            "undetermined."),
+    Key("body", TABLE, None, default_doc="gravity 0", doc="Body force."),
+    Key("stress", TABLE, None, default_doc="all 0", doc="Initial (in-situ) stress."),
+    Key("mesh", TABLE, doc="Mesh sizes."),
+    Key("propagation", TABLE, None, default_doc="all defaults", doc="Growth control. Only `run` reads it."),
+)
+
+SHAPE = Key("shape", STRING, choices=SHAPES, doc="Which of the keys below the table takes.")
+SHAPE_KEYS = {
+    "disc": (Key("center", POINT, unit="m", doc="The centre."),
+             Key("radius", NUMBER, unit="m", range=POSITIVE, doc="The radius.")),
+    "rectangle": (Key("corner", POINT, unit="m", doc="The lower left corner [x0, y0]."),
+                  Key("size", POINT, unit="m", range=POSITIVE, parts=("width", "height"), doc="[width, height].")),
+    "polygon": (Key("points", POINTS, unit="m", min_points=3, noun="a polygon",
+                    doc="The vertices, counter-clockwise.", rule=f"at most {MAX_ITEMS} points"),),
+}
+
+_BC_VALUE = "Global x and y components."
+BC_KEYS = (
+    Key("at", POINT, None, "m", doc="A boundary point. It becomes a mesh node, and duplicate points share one node.",
+        rule="within 1e-9 L of the boundary, and not on a fracture (a mouth): that would be ambiguous"),
+    Key("on", STRING, None, doc="A boundary name of the domain (see `[domain]`). An unknown name gets a list of the "
+                                "names and a suggestion."),
+    Key("force", POINT, None, "N/m", doc=_BC_VALUE, rule="only with `at`",
+        limit=Limit(hi=MAX_STRAIN, of="E L", why=_SMALL)),
+    Key("traction", POINT, None, "Pa", doc=_BC_VALUE, rule="only with `on`",
+        limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL)),
+    Key("displacement", POINT, None, "m", doc="Both components prescribed. Works with `at` or `on`.",
+        limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL)),
+    Key("displacement_x", NUMBER, None, "m", doc="One component prescribed. Giving both equals `displacement`. "
+        "Neither may be combined with `displacement`.", limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL)),
+    Key("displacement_y", NUMBER, None, "m", doc="As `displacement_x`.",
+        limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL)),
+)
+BC_PLACES = ("at", "on")
+BC_CONDITIONS = tuple(k.name for k in BC_KEYS if k.name not in BC_PLACES)
+
+#: Every table of a case, in reading order: what the reader reads and the
+#: reference documents ([domain]: every shape's keys).
+DESCRIPTION = {
+    "top": TOP_KEYS, "material": keys_of(Material),
+    "domain": (SHAPE,) + tuple(k for keys in SHAPE_KEYS.values() for k in keys),
+    "fractures": keys_of(Fracture), "bc": BC_KEYS, "body": keys_of(Body), "stress": keys_of(Stress),
+    "mesh": keys_of(MeshOptions), "propagation": keys_of(Propagation),
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -221,16 +467,11 @@ class Case:
 
     @classmethod
     def from_toml(cls, path) -> Case:
-        """Read and check a case file. Unreadable files and TOML syntax errors
+        """Read and check a case file. A file that is not a regular one (a
+        directory, a FIFO, a device), unreadable files and TOML syntax errors
         are CaseError too, keyed by the file name."""
         path = Path(path)
-        try:
-            with open(path, "rb") as fh:
-                raw = fh.read(MAX_FILE_BYTES + 1)
-        except OSError as err:
-            raise CaseError(str(path), f"cannot read: {err.strerror or err}") from None
-        if len(raw) > MAX_FILE_BYTES:
-            raise CaseError(str(path), f"too large for a case file (over {MAX_FILE_BYTES} bytes)")
+        raw = _read_file(path)
         try:
             text = raw.decode("utf-8")
         except UnicodeDecodeError as err:
@@ -290,19 +531,35 @@ class Case:
                 pts.append(p)
         return pts
 
-    def at_load(self, factor: float) -> Case:
-        """The case with every bc value and every fracture slip times `factor`
-        (initial stress and gravity unchanged)."""
-        return replace(
-            self,
-            bcs=tuple(bc.scaled(factor) for bc in self.bcs),
-            fractures=tuple(f.scaled(factor) for f in self.fractures),
-        )
+
+_FILE_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+               (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
 
 
-# ---------------------------------------------------------------- reading
+def _read_file(path: Path) -> bytes:
+    """At most MAX_FILE_BYTES + 1 bytes of a regular file. Opened without
+    blocking and checked before reading: a FIFO would wait for a writer
+    forever, a device never ends."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError as err:
+        raise CaseError(str(path), f"cannot read: {err.strerror or err}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        kind = next((name for test, name in _FILE_KINDS if test(mode)), "not a file")
+        raise CaseError(str(path), f"not a regular file ({kind}): a case is a TOML file")
+    with os.fdopen(fd, "rb") as fh:
+        try:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+        except OSError as err:
+            raise CaseError(str(path), f"cannot read: {err.strerror or err}") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise CaseError(str(path), f"too large for a case file (over {MAX_FILE_BYTES} bytes)")
+    return raw
 
-_REQUIRED = object()
+
+# ---------------------------------------------------------------- the reader
 
 
 def _what(v) -> str:
@@ -339,8 +596,43 @@ def _as_point(v, key: str) -> tuple[float, float]:
     return (_as_number(v[0], f"{key}[0]"), _as_number(v[1], f"{key}[1]"))
 
 
+def _as_integer(v, key: str) -> int:
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise CaseError(key, f"expected an integer, got {_what(v)}")
+    return v
+
+
+def _as_boolean(v, key: str) -> bool:
+    if not isinstance(v, bool):
+        raise CaseError(key, f"expected true or false, got {_what(v)}")
+    return v
+
+
+def _as_string(v, key: str) -> str:
+    if not isinstance(v, str):
+        raise CaseError(key, f"expected a string, got {_what(v)}")
+    return v
+
+
+def _as_points(v, key: str) -> np.ndarray:
+    if not isinstance(v, list):
+        raise CaseError(key, f"expected an array of [x, y], got {_what(v)}")
+    if len(v) > MAX_ITEMS:
+        raise CaseError(key, f"at most {MAX_ITEMS} points, got {len(v)}")
+    pts = [_as_point(p, f"{key}[{i}]") for i, p in enumerate(v)]
+    return np.array(pts, dtype=float).reshape(-1, 2)
+
+
+def _as_tables(v, key: str) -> list[_Table]:
+    if not isinstance(v, list):
+        raise CaseError(key, f"expected an array of tables ([[{key}]]), got {_what(v)}")
+    if len(v) > MAX_ITEMS:
+        raise CaseError(key, f"at most {MAX_ITEMS} entries, got {len(v)}")
+    return [_Table(item, f"{key}[{i}]") for i, item in enumerate(v)]
+
+
 class _Table:
-    """A TOML table being read: knows its key path, checks key names and types."""
+    """A TOML table being read: knows its key path, reads its keys by their Keys."""
 
     def __init__(self, data, path: str):
         if not isinstance(data, dict):
@@ -351,235 +643,97 @@ class _Table:
     def key(self, k: str) -> str:
         return f"{self.path}.{k}" if self.path else k
 
-    def only(self, allowed) -> None:
-        """Refuse any key outside `allowed`, suggesting the closest one."""
-        allowed = list(allowed)
+    def refuse_unknown(self, keys) -> None:
+        """Refuse any key not among `keys`, suggesting the closest one."""
+        allowed = [k.name for k in keys]
         for k in self.data:
             if k not in allowed:
                 near = difflib.get_close_matches(k, allowed, n=1)
                 hint = f" (did you mean {near[0]}?)" if near else ""
                 raise CaseError(self.key(k), f"unknown key{hint}")
 
-    def has(self, k: str) -> bool:
-        return k in self.data
+    def read(self, keys, known: dict | None = None) -> dict:
+        """{name: value} of every Key, checked, in order. `known` holds what
+        was read before: the scales a Limit names and the keys a Ref names."""
+        self.refuse_unknown(keys)
+        values: dict = {}
+        for k in keys:
+            values[k.name] = self.value(k, values, known or {})
+        return values
 
-    def _get(self, k, default):
-        if k in self.data:
-            return self.data[k], True
-        if default is _REQUIRED:
-            raise CaseError(self.key(k), "missing (required)")
-        return default, False
-
-    def number(self, k, default=_REQUIRED) -> float:
-        v, given = self._get(k, default)
-        return _as_number(v, self.key(k)) if given else v
-
-    def integer(self, k, default=_REQUIRED) -> int:
-        v, given = self._get(k, default)
-        if given and (isinstance(v, bool) or not isinstance(v, int)):
-            raise CaseError(self.key(k), f"expected an integer, got {_what(v)}")
+    def value(self, k: Key, values: dict | None = None, known: dict | None = None):
+        """Key k's value, converted and checked (`values`: the table's keys
+        read before it), or its default."""
+        key = self.key(k.name)
+        if k.name not in self.data:
+            if k.default is REQUIRED:
+                raise CaseError(key, "missing (required table)" if k.type == TABLE else "missing (required)")
+            if isinstance(k.default, Ref):
+                return known[k.default.key]
+            if k.type == TABLE:  # an optional table left out reads as an empty one
+                return _Table({}, key)
+            return [] if k.type == TABLES else k.default
+        v = _READERS[k.type](self.data[k.name], key)
+        k.check(v, key, values or {}, known or {})
         return v
 
-    def boolean(self, k, default=_REQUIRED) -> bool:
-        v, given = self._get(k, default)
-        if given and not isinstance(v, bool):
-            raise CaseError(self.key(k), f"expected true or false, got {_what(v)}")
-        return v
 
-    def choice(self, k, choices, default=_REQUIRED) -> str:
-        v, given = self._get(k, default)
-        if not given:
-            return v
-        if not isinstance(v, str):
-            raise CaseError(self.key(k), f"expected a string, got {_what(v)}")
-        if v not in choices:
-            options = " | ".join(f'"{c}"' for c in choices)
-            raise CaseError(self.key(k), f'"{v}" is not one of {options}')
-        return v
-
-    def string(self, k, default=_REQUIRED) -> str:
-        v, given = self._get(k, default)
-        if given and not isinstance(v, str):
-            raise CaseError(self.key(k), f"expected a string, got {_what(v)}")
-        return v
-
-    def point(self, k, default=_REQUIRED) -> tuple[float, float]:
-        v, given = self._get(k, default)
-        return _as_point(v, self.key(k)) if given else v
-
-    def points(self, k) -> np.ndarray:
-        """A required array of [x, y] as (n, 2) float64."""
-        v, _ = self._get(k, _REQUIRED)
-        if not isinstance(v, list):
-            raise CaseError(self.key(k), f"expected an array of [x, y], got {_what(v)}")
-        if len(v) > MAX_ITEMS:
-            raise CaseError(self.key(k), f"at most {MAX_ITEMS} points, got {len(v)}")
-        pts = [_as_point(p, f"{self.key(k)}[{i}]") for i, p in enumerate(v)]
-        return np.array(pts, dtype=float).reshape(-1, 2)
-
-    def table(self, k, required=False) -> _Table:
-        if k not in self.data:
-            if required:
-                raise CaseError(self.key(k), "missing (required table)")
-            return _Table({}, self.key(k))
-        return _Table(self.data[k], self.key(k))
-
-    def array_of_tables(self, k) -> list[_Table]:
-        if k not in self.data:
-            return []
-        v = self.data[k]
-        if not isinstance(v, list):
-            raise CaseError(self.key(k), f"expected an array of tables ([[{k}]]), got {_what(v)}")
-        if len(v) > MAX_ITEMS:
-            raise CaseError(self.key(k), f"at most {MAX_ITEMS} entries, got {len(v)}")
-        return [_Table(item, f"{self.key(k)}[{i}]") for i, item in enumerate(v)]
+_READERS = {NUMBER: _as_number, INTEGER: _as_integer, BOOLEAN: _as_boolean, STRING: _as_string, POINT: _as_point,
+            POINTS: _as_points, TABLE: _Table, TABLES: _as_tables}
 
 
-def _require_positive(x: float, key: str, what: str = "must be > 0") -> None:
-    if not x > 0:
-        raise CaseError(key, f"{what}, got {x:g}")
-
-
-# ---------------------------------------------------------------- sections
-
-
-def _parse_material(t: _Table) -> Material:
-    t.only(["E", "nu", "KIc", "plane", "thickness", "density"])
-    E = t.number("E")
-    _require_positive(E, t.key("E"))
-    nu = t.number("nu")
-    if not -1.0 < nu < 0.5:
-        raise CaseError(t.key("nu"), f"must lie in (-1, 0.5), got {nu:g}")
-    KIc = t.number("KIc")
-    _require_positive(KIc, t.key("KIc"))
-    plane = t.choice("plane", PLANES, "stress")
-    thickness = t.number("thickness", 1.0)
-    _require_positive(thickness, t.key("thickness"))
-    density = t.number("density", 0.0)
-    if density < 0:
-        raise CaseError(t.key("density"), f"must be >= 0, got {density:g}")
-    return Material(E, nu, KIc, plane, thickness, density)
-
-
-_SHAPE_KEYS = {"disc": ("center", "radius"), "rectangle": ("corner", "size"), "polygon": ("points",)}
+# ---------------------------------------------------------------- rules across keys
 
 
 def _parse_domain(t: _Table):
     """Check the domain table and build the meshing.Domain."""
-    t.only(["shape", "center", "radius", "corner", "size", "points"])
-    shape = t.choice("shape", SHAPES)
-    keys = _SHAPE_KEYS[shape]
+    t.refuse_unknown(DESCRIPTION["domain"])
+    shape = t.value(SHAPE)
+    keys = SHAPE_KEYS[shape]
     for k in t.data:
-        if k != "shape" and k not in keys:
-            raise CaseError(t.key(k), f'not a key of shape "{shape}" (it takes {", ".join(keys)})')
-    geo: dict = {}
+        if k != "shape" and k not in [s.name for s in keys]:
+            raise CaseError(t.key(k), f'not a key of shape "{shape}" (it takes {", ".join(s.name for s in keys)})')
+    geo = t.read((SHAPE,) + keys)
+    del geo["shape"]
     if shape == "disc":
-        geo["center"] = t.point("center")
-        geo["radius"] = t.number("radius")
-        _require_positive(geo["radius"], t.key("radius"))
         _check_scale(2 * geo["radius"], np.abs(geo["center"]).max(), t.key("radius"), t.key("center"))
     elif shape == "rectangle":
-        geo["corner"] = t.point("corner")
-        geo["size"] = t.point("size")
-        for i, name in enumerate(("width", "height")):
-            _require_positive(geo["size"][i], f"{t.key('size')}[{i}]", f"{name} must be > 0")
         _check_scale(max(geo["size"]), np.abs(geo["corner"]).max(), t.key("size"), t.key("corner"))
     else:
-        pts = t.points("points")
-        if len(pts) < 3:
-            raise CaseError(t.key("points"), f"a polygon needs at least 3 points, got {len(pts)}")
+        pts = geo["points"]
         # before _check_polygon, whose products would overflow
         with np.errstate(over="ignore"):
             extent = float(np.ptp(pts, axis=0).max())
         _check_scale(extent, np.abs(pts).max(), t.key("points"), t.key("points"))
         _check_polygon(pts, t.key("points"))
-        geo["points"] = pts
     try:
         return Domain(shape, **geo)
     except ValueError as err:  # anything meshing refuses that the checks above let through
         raise CaseError(t.path, str(err)) from None
 
 
-def _check_scale(size: float, offset: float, size_key: str, offset_key: str) -> None:
-    """The domain's size within LENGTH_RANGE, and its coordinates within MAX_OFFSET sizes of the origin."""
-    lo, hi = LENGTH_RANGE
-    if not lo <= size <= hi:
-        raise CaseError(size_key, f"a domain {size:g} m across is outside the verified range {lo:g} .. {hi:g} m")
-    if offset > MAX_OFFSET * size:
-        raise CaseError(offset_key, f"coordinates {offset:g} m from the origin are over {MAX_OFFSET:g} times "
-                                    f"the domain size ({size:g} m): move the origin near the domain")
-
-
-def _check_polygon(pts: np.ndarray, key: str) -> None:
-    extent = float(np.ptp(pts, axis=0).max())
-    tol = REL_TOL * max(extent, np.finfo(float).tiny)
-    edges = np.roll(pts, -1, axis=0) - pts
-    for i, e in enumerate(edges):
-        if np.linalg.norm(e) <= tol:
-            raise CaseError(key, f"edge{i} has zero length (points {i} and {(i + 1) % len(pts)} coincide)")
-    # Shoelace: twice the signed area, > 0 counter-clockwise.
-    area2 = float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
-    if _kernels.polyline_self_intersects(pts, REL_TOL):
-        raise CaseError(key, "the polygon intersects itself")
-    n = len(pts)
-    # The closing edge (n-1 -> 0) against every edge not adjacent to it.
-    for j in range(1, n - 2):
-        hit = _kernels.segment_intersection(pts[n - 1], pts[0], pts[j], pts[j + 1], REL_TOL)[0]
-        if hit:
-            raise CaseError(key, f"the polygon intersects itself (edge{n - 1} meets edge{j})")
-    if abs(area2) <= tol * extent:
-        raise CaseError(key, "the polygon has no area")
-    if area2 < 0:
-        raise CaseError(key, "points must run counter-clockwise (they run clockwise)")
-
-
-def _parse_fracture(t: _Table) -> tuple[np.ndarray, dict]:
-    t.only(["points", "faces", "slip", "slip_profile", "gap", "grow"])
-    pts = t.points("points")
-    if len(pts) < 2:
-        raise CaseError(t.key("points"), f"a fracture needs at least 2 points, got {len(pts)}")
-    faces = t.choice("faces", FACES, "open")
-    slip = t.number("slip", 0.0)
-    profile = t.choice("slip_profile", SLIP_PROFILES, "uniform")
-    # the contract's own example writes slip = 0.0 on frictionless faces: a
-    # zero slip is no condition and is accepted anywhere; a real one is not
-    if faces != "slip":
-        if slip != 0.0:
-            raise CaseError(t.key("slip"), f'only with faces = "slip" (faces is "{faces}")')
-        if t.has("slip_profile"):
-            raise CaseError(t.key("slip_profile"), f'only with faces = "slip" (faces is "{faces}")')
-    gap = t.number("gap", 0.0)
-    if gap < 0:
-        raise CaseError(t.key("gap"), f"must be >= 0, got {gap:g}")
-    grow = t.boolean("grow", True)
-    pts.setflags(write=False)
-    return pts, dict(faces=faces, slip=slip, slip_profile=profile, gap=gap, grow=grow)
-
-
-def _parse_bc(t: _Table, boundary_names) -> BC:
-    conditions = ("force", "traction", "displacement", "displacement_x", "displacement_y")
-    t.only(("at", "on") + conditions)
-    has_at, has_on = t.has("at"), t.has("on")
-    if has_at and has_on:
+def _parse_bc(t: _Table, boundary_names, known: dict) -> BC:
+    """One place and one condition; displacement_x and displacement_y
+    together are one displacement condition."""
+    t.refuse_unknown(DESCRIPTION["bc"])
+    if all(p in t.data for p in BC_PLACES):
         raise CaseError(t.path, "give one place: either at (a point) or on (a boundary), not both")
-    if not (has_at or has_on):
+    if not any(p in t.data for p in BC_PLACES):
         raise CaseError(t.path, "missing place: give at = [x, y] or on = \"<boundary>\"")
-    given = [c for c in conditions if t.has(c)]
-    if t.has("displacement"):
+    given = [c for c in BC_CONDITIONS if c in t.data]
+    if "displacement" in t.data:
         for c in ("displacement_x", "displacement_y"):
-            if t.has(c):
+            if c in t.data:
                 raise CaseError(t.key(c), "conflicts with displacement (give displacement, or displacement_x / displacement_y)")
-    # displacement_x and displacement_y together are one displacement condition.
     kinds = {c.split("_")[0] for c in given}
     if not given:
-        raise CaseError(t.path, "no condition: give one of " + ", ".join(conditions))
+        raise CaseError(t.path, "no condition: give one of " + ", ".join(BC_CONDITIONS))
     if len(kinds) > 1:
         raise CaseError(t.path, "two conditions (" + " and ".join(given) + "): each [[bc]] holds one")
     kind = kinds.pop()
-    at = t.point("at") if has_at else None
-    on = None
-    if has_on:
-        on = t.string("on")
+    v = t.read(DESCRIPTION["bc"], known)
+    at, on = v["at"], v["on"]
+    if on is not None:
         names = list(boundary_names)
         if on not in names:
             near = difflib.get_close_matches(on, names, n=1)
@@ -590,57 +744,25 @@ def _parse_bc(t: _Table, boundary_names) -> BC:
     if kind == "traction" and at is not None:
         raise CaseError(t.key("traction"), "a traction (Pa) acts on a boundary: use on = \"<boundary>\", or force at a point")
     if kind in ("force", "traction"):
-        return BC(kind, t.point(kind), at=at, on=on)
-    if t.has("displacement"):
-        return BC("displacement", t.point("displacement"), at=at, on=on)
-    ux = t.number("displacement_x", None)
-    uy = t.number("displacement_y", None)
+        return BC(kind, v[kind], at=at, on=on)
+    if v["displacement"] is not None:
+        return BC("displacement", v["displacement"], at=at, on=on)
+    ux, uy = v["displacement_x"], v["displacement_y"]
     return BC("displacement", (ux or 0.0, uy or 0.0), at=at, on=on, components=(ux is not None, uy is not None))
 
 
-def _parse_mesh(t: _Table) -> MeshOptions:
-    t.only(["size", "tip_size", "adaptive", "sectors"])
-    size = t.number("size")
-    _require_positive(size, t.key("size"))
-    tip = t.number("tip_size")
-    _require_positive(tip, t.key("tip_size"))
-    if tip >= size:
-        raise CaseError(t.key("tip_size"), f"must be smaller than mesh.size ({tip:g} >= {size:g})")
-    adaptive = t.boolean("adaptive", True)
-    sectors = t.integer("sectors", 32)
-    if sectors < 8:
-        raise CaseError(t.key("sectors"), f"must be >= 8 (32 recommended), got {sectors}")
-    if sectors > MAX_SECTORS:
-        raise CaseError(t.key("sectors"), f"must be <= {MAX_SECTORS} (32 recommended), got {sectors}")
-    return MeshOptions(size, tip, adaptive, sectors)
+def _parse_mesh(t: _Table, known: dict) -> MeshOptions:
+    mesh = MeshOptions(**t.read(DESCRIPTION["mesh"], known))
+    if mesh.tip_size >= mesh.size:
+        raise CaseError(t.key("tip_size"), f"must be smaller than mesh.size ({mesh.tip_size:g} >= {mesh.size:g})")
+    return mesh
 
 
-def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
-    """Sizes the mesher can honour in this domain: not too many triangles, a
-    rosette well above the geometric tolerance."""
-    L = float(domain.length_scale())
-    cells = domain.area() / (math.sqrt(3) / 4 * mesh.size**2)
-    if cells > MAX_ELEMENTS:
-        raise CaseError("mesh.size", f"{mesh.size:g} m asks for about {cells:.2g} elements in this domain of "
-                                     f"{domain.area():.4g} m^2 (at most {MAX_ELEMENTS:.2g}): use a larger size")
-    if mesh.tip_size < MIN_TIP_FRACTION * L:
-        raise CaseError("mesh.tip_size", f"{mesh.tip_size:g} m is below {MIN_TIP_FRACTION:g} of the domain size "
-                                         f"({L:g} m): too close to the geometric tolerance")
-
-
-def _parse_propagation(t: _Table, tip_size: float) -> Propagation:
-    t.only(["steps", "length", "alpha", "load", "max_load_factor"])
-    steps = t.integer("steps", 35)
-    if steps < 0:
-        raise CaseError(t.key("steps"), f"must be >= 0, got {steps}")
-    length = t.number("length", tip_size)
-    _require_positive(length, t.key("length"))
-    alpha = t.number("alpha", 0.35)
-    _require_positive(alpha, t.key("alpha"))
-    load = t.choice("load", LOADS, "scale")
-    mlf = t.number("max_load_factor", 100.0)
-    _require_positive(mlf, t.key("max_load_factor"))
-    return Propagation(length=length, steps=steps, alpha=alpha, load=load, max_load_factor=mlf)
+def _scales(material: Material, domain) -> dict:
+    """What Limits scale by: E, L (the domain's length scale) and their products."""
+    E, L = material.E, float(domain.length_scale())
+    weight = material.density * L  # may underflow to 0: no body force then
+    return {"E": E, "L": L, "E L": E * L, "E / (density L)": E / weight if weight > 0 else math.inf}
 
 
 # ---------------------------------------------------------------- the case
@@ -648,41 +770,41 @@ def _parse_propagation(t: _Table, tip_size: float) -> Propagation:
 
 def _parse_case(d: dict, source: Path | None) -> Case:
     top = _Table(d, "")
-    top.only(["title", "material", "domain", "fractures", "bc", "body", "stress", "mesh", "propagation"])
-    title = top.string("title", "")
+    top.refuse_unknown(DESCRIPTION["top"])
+    section = {k.name: k for k in DESCRIPTION["top"]}  # each read in its turn: errors in reading order
+    title = top.value(section["title"])
 
-    material = _parse_material(top.table("material", required=True))
-    domain = _parse_domain(top.table("domain", required=True))
+    material = Material(**top.value(section["material"]).read(DESCRIPTION["material"]))
+    domain = _parse_domain(top.value(section["domain"]))
     L = float(domain.length_scale())
     tol = REL_TOL * L
+    known = _scales(material, domain)
 
-    fr_tables = top.array_of_tables("fractures")
-    parsed = [_parse_fracture(ft) for ft in fr_tables]
-    for ft, (pts, _) in zip(fr_tables, parsed):
-        _check_fracture_geometry(pts, ft.key("points"), domain, tol)
-    _check_fractures_apart([p for p, _ in parsed], tol)
-    fractures = tuple(Fracture(pts, **opts) for pts, opts in parsed)
+    fr_tables = top.value(section["fractures"])
+    parsed = [ft.read(DESCRIPTION["fractures"], known) for ft in fr_tables]
+    for ft, f in zip(fr_tables, parsed):
+        _check_fracture_geometry(f["points"], ft.key("points"), domain, tol)
+    _check_fractures_apart([f["points"] for f in parsed], tol)
+    for f in parsed:
+        f["points"].setflags(write=False)
+    fractures = tuple(Fracture(**f) for f in parsed)
 
-    bc_tables = top.array_of_tables("bc")
-    bcs = tuple(_parse_bc(bt, domain.boundary_names()) for bt in bc_tables)
+    bc_tables = top.value(section["bc"])
+    bcs = tuple(_parse_bc(bt, domain.boundary_names(), known) for bt in bc_tables)
     for bt, bc in zip(bc_tables, bcs):
         if bc.at is not None:
             _check_bc_point(bc.at, bt.key("at"), domain, fractures, tol)
     _check_bc_conflicts(bcs, domain, tol)
 
-    bt = top.table("body")
-    bt.only(["gravity"])
-    body = Body(bt.point("gravity", (0.0, 0.0)))
     # gravity with density 0 (the contract's example) is no body force: allowed
+    body = Body(**top.value(section["body"]).read(DESCRIPTION["body"], known))
+    stress = Stress(**top.value(section["stress"]).read(DESCRIPTION["stress"], known))
 
-    st = top.table("stress")
-    st.only(["sxx", "syy", "sxy"])
-    stress = Stress(st.number("sxx", 0.0), st.number("syy", 0.0), st.number("sxy", 0.0))
-
-    mesh = _parse_mesh(top.table("mesh", required=True))
+    mesh = _parse_mesh(top.value(section["mesh"]), known)
     _check_mesh_against_domain(mesh, domain)
     _check_mesh_against_fractures(mesh, fractures, domain, tol)
-    propagation = _parse_propagation(top.table("propagation"), mesh.tip_size)
+    known["mesh.tip_size"] = mesh.tip_size  # a Ref: the default of propagation.length
+    propagation = Propagation(**top.value(section["propagation"]).read(DESCRIPTION["propagation"], known))
 
     _check_statically_determined(bcs, domain)
 
@@ -690,6 +812,8 @@ def _parse_case(d: dict, source: Path | None) -> Case:
 
 
 # ---------------------------------------------------------------- geometry checks
+# The geometric admissibility of a case (sizes, positions, polygon, fractures,
+# points, rosettes): one block, kept apart from the reading above.
 
 
 def _strictly_inside(domain, p, tol) -> bool:
@@ -836,6 +960,55 @@ def _check_mesh_against_fractures(mesh: MeshOptions, fractures, domain, tol: flo
                     raise CaseError(
                         "mesh.tip_size", f"the rosette of fractures[{i}] end {end} (radius {h:g}) reaches fractures[{j}]"
                     )
+
+
+
+def _check_scale(size: float, offset: float, size_key: str, offset_key: str) -> None:
+    """The domain's size within LENGTH_RANGE, and its coordinates within MAX_OFFSET sizes of the origin."""
+    lo, hi = LENGTH_RANGE
+    if not lo <= size <= hi:
+        raise CaseError(size_key, f"a domain {size:g} m across is outside the verified range {lo:g} .. {hi:g} m")
+    if offset > MAX_OFFSET * size:
+        raise CaseError(offset_key, f"coordinates {offset:g} m from the origin are over {MAX_OFFSET:g} times "
+                                    f"the domain size ({size:g} m): move the origin near the domain")
+
+
+def _check_polygon(pts: np.ndarray, key: str) -> None:
+    extent = float(np.ptp(pts, axis=0).max())
+    tol = REL_TOL * max(extent, np.finfo(float).tiny)
+    edges = np.roll(pts, -1, axis=0) - pts
+    for i, e in enumerate(edges):
+        if np.linalg.norm(e) <= tol:
+            raise CaseError(key, f"edge{i} has zero length (points {i} and {(i + 1) % len(pts)} coincide)")
+    # Shoelace: twice the signed area, > 0 counter-clockwise.
+    area2 = float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
+    if _kernels.polyline_self_intersects(pts, REL_TOL):
+        raise CaseError(key, "the polygon intersects itself")
+    n = len(pts)
+    # The closing edge (n-1 -> 0) against every edge not adjacent to it.
+    for j in range(1, n - 2):
+        hit = _kernels.segment_intersection(pts[n - 1], pts[0], pts[j], pts[j + 1], REL_TOL)[0]
+        if hit:
+            raise CaseError(key, f"the polygon intersects itself (edge{n - 1} meets edge{j})")
+    if abs(area2) <= tol * extent:
+        raise CaseError(key, "the polygon has no area")
+    if area2 < 0:
+        raise CaseError(key, "points must run counter-clockwise (they run clockwise)")
+
+
+
+def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
+    """Sizes the mesher can honour in this domain: not too many triangles, a
+    rosette well above the geometric tolerance."""
+    L = float(domain.length_scale())
+    cells = domain.area() / (math.sqrt(3) / 4 * mesh.size**2)
+    if cells > MAX_ELEMENTS:
+        raise CaseError("mesh.size", f"{mesh.size:g} m asks for about {cells:.2g} elements in this domain of "
+                                     f"{domain.area():.4g} m^2 (at most {MAX_ELEMENTS:.2g}): use a larger size")
+    if mesh.tip_size < MIN_TIP_FRACTION * L:
+        raise CaseError("mesh.tip_size", f"{mesh.tip_size:g} m is below {MIN_TIP_FRACTION:g} of the domain size "
+                                         f"({L:g} m): too close to the geometric tolerance")
+
 
 
 # ---------------------------------------------------------------- rigid-body check
