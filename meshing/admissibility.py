@@ -281,7 +281,7 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
                                                      f"tip rosette (tip_size {tip:g})")
         d = float(domain.distance_to_boundary(t.x))
         if d <= TIP_CLEARANCE * t.h + margin:
-            return Problem(key, f"{where} reaches the boundary: the tip is {d:.6g} m ({d / t.h:.3g} radii) "
+            return Problem(key, f"{where} reaches the boundary: the tip is {d:.7g} m ({d / t.h:.7g} radii) "
                                 f"from it, it needs {TIP_CLEARANCE:g} radii")
         for f, pts in enumerate(polylines):
             n = len(pts) - 1
@@ -296,7 +296,7 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
                         reach = NEIGHBOUR_CLEARANCE
                 d, _ = K.point_segment_distance(t.x, pts[s], pts[s + 1])
                 if d <= reach * t.h + margin:
-                    return Problem(key, f"{where} reaches {what}: the tip is {d:.6g} m ({d / t.h:.3g} radii) "
+                    return Problem(key, f"{where} reaches {what}: the tip is {d:.7g} m ({d / t.h:.7g} radii) "
                                         f"from it, it needs {reach:g} radii")
     for a in range(len(tips)):
         for b in range(a + 1, len(tips)):
@@ -363,7 +363,7 @@ def anchors_apart(domain, points, point_keys, polylines, tip: float) -> Problem 
         for q, _, what in named[:a] + corners:
             d = float(np.linalg.norm(p - q))
             if tol < d < gap:
-                return Problem(key, f"({p[0]:g}, {p[1]:g}) is {d:.3g} m from {what}: boundary points that "
+                return Problem(key, f"({p[0]:.10g}, {p[1]:.10g}) is {d:.3g} m from {what}: boundary points that "
                                     f"become mesh nodes coincide or lie at least {ANCHOR_GAP:g} tip_size "
                                     f"({gap:g} m) apart")
     return None

@@ -11,6 +11,7 @@ and moves it away from the origin.
 """
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -82,6 +83,12 @@ def family(name: str, k: float, phi: float = 0.0, n: int = 3) -> dict:
         return base(extra_bc=[{"at": [-1.0 + k * h, -1.0], "displacement_y": 0.0}])
     if name == "mouth":         # an edge crack's mouth k tip sizes from a pin
         return base([[(-1.0, k * h), (-0.7, k * h + 0.1)]])
+    if name == "rim":           # a disc (the Brazilian test): a tip k h from the rim at phi
+        d = base([[0.6 * _turn(phi), (1 - k * h) * _turn(phi)]])
+        d["domain"] = {"shape": "disc", "center": [0.0, 0.0], "radius": 1.0}
+        d["bc"] = [{"at": [0.0, 1.0], "force": [0.0, -1e6]}, {"at": [0.0, -1.0], "force": [0.0, 1e6]},
+                   {"at": [-1.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [1.0, 0.0], "displacement_y": 0.0}]
+        return d
     if name == "zigzag":        # n points, segments k tip sizes long
         t = np.arange(n) * k * h
         x = t - 0.5 * t[-1]
@@ -95,7 +102,7 @@ THRESHOLD = {
     "boundary": TIP_CLEARANCE, "corner": TIP_CLEARANCE, "T": TIP_CLEARANCE, "sidebyside": TIP_CLEARANCE,
     "tiptip": 2 + GAP, "short": 2 + GAP, "segment": 1.0, "kink": NEIGHBOUR_CLEARANCE, "uturn": TIP_CLEARANCE,
     "doubleback": NEIGHBOUR_CLEARANCE, "graze": 1.0, "pin": 1.0, "pin_corner": 1.0, "mouth": 1.0,
-    "zigzag": 1.05,
+    "zigzag": 1.05, "rim": TIP_CLEARANCE,
 }
 
 
@@ -110,12 +117,15 @@ def place(case: dict, angle: float = 0.0, scale: float = 1.0, offset: float = 0.
         return ((np.asarray(p, float) @ R.T) * scale + shift).tolist()
 
     out = {key: (dict(v) if isinstance(v, dict) else v) for key, v in case.items()}
-    if angle:
+    if case["domain"]["shape"] == "disc":
+        out["domain"] = {"shape": "disc", "center": move(case["domain"]["center"]),
+                         "radius": case["domain"]["radius"] * scale}
+    elif angle:
         corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         out["domain"] = {"shape": "polygon", "points": [move(c) for c in corners]}
     else:
         out["domain"] = {"shape": "rectangle", "corner": move((-1.0, -1.0)), "size": [2.0 * scale, 2.0 * scale]}
-    names = {"top": "edge2", "bottom": "edge0"} if angle else {}
+    names = {"top": "edge2", "bottom": "edge0"} if angle and case["domain"]["shape"] != "disc" else {}
     out["fractures"] = [dict(f, points=[move(p) for p in f["points"]]) for f in case["fractures"]]
     bcs = []
     for bc in case["bc"]:
@@ -124,8 +134,9 @@ def place(case: dict, angle: float = 0.0, scale: float = 1.0, offset: float = 0.
             bc["at"] = move(bc["at"])
         if "on" in bc:
             bc["on"] = names.get(bc["on"], bc["on"])
-        if "traction" in bc:
-            bc["traction"] = (np.asarray(bc["traction"]) @ R.T).tolist()
+        for load in ("traction", "force"):
+            if load in bc:
+                bc[load] = (np.asarray(bc[load]) @ R.T).tolist()
         if angle and "displacement_y" in bc:   # the roller keeps its direction in the turned frame
             bc.pop("displacement_y")
             bc["displacement"] = [0.0, 0.0]
@@ -136,3 +147,21 @@ def place(case: dict, angle: float = 0.0, scale: float = 1.0, offset: float = 0.
     out["bc"] = bcs
     out["mesh"] = {k: v * scale for k, v in case["mesh"].items()}
     return out
+
+
+def to_toml(d: dict) -> str:
+    """A case table as the TOML text of a case file."""
+    def v(x):
+        if isinstance(x, str):
+            return json.dumps(x)
+        if isinstance(x, (list, tuple)):
+            return "[" + ", ".join(v(y) for y in x) + "]"
+        return repr(float(x)) if isinstance(x, float) else str(x)
+
+    lines = [f"title = {v(d['title'])}"]
+    for table in ("material", "domain", "mesh", "propagation"):
+        lines += [f"[{table}]"] + [f"{k} = {v(x)}" for k, x in d[table].items()]
+    for array in ("fractures", "bc"):
+        for entry in d[array]:
+            lines += [f"[[{array}]]"] + [f"{k} = {v(x)}" for k, x in entry.items()]
+    return "\n".join(lines) + "\n"

@@ -11,7 +11,6 @@ breaks (the measurements behind the thresholds, in admissibility.py).
 from __future__ import annotations
 
 import importlib
-import json
 import math
 
 import numpy as np
@@ -23,7 +22,7 @@ from meshing.admissibility import Inadmissible
 from wingcrack import cli
 from wingcrack.errors import CaseError
 
-from admissibility_cases import H, THRESHOLD, base, family, place
+from admissibility_cases import H, THRESHOLD, base, family, place, to_toml
 
 crack_mesh_module = importlib.import_module("meshing.crack_mesh")
 
@@ -105,25 +104,8 @@ def run_cli(argv, capfd):
 
 def write(tmp_path, d: dict, name="case.toml"):
     path = tmp_path / name
-    path.write_text(_toml(d))
+    path.write_text(to_toml(d))
     return path
-
-
-def _toml(d: dict) -> str:
-    def v(x):
-        if isinstance(x, str):
-            return json.dumps(x)
-        if isinstance(x, (list, tuple)):
-            return "[" + ", ".join(v(y) for y in x) + "]"
-        return repr(float(x)) if isinstance(x, float) else str(x)
-
-    lines = [f"title = {v(d['title'])}"]
-    for table in ("material", "domain", "mesh", "propagation"):
-        lines += [f"[{table}]"] + [f"{k} = {v(x)}" for k, x in d[table].items()]
-    for array in ("fractures", "bc"):
-        for entry in d[array]:
-            lines += [f"[[{array}]]"] + [f"{k} = {v(x)}" for k, x in entry.items()]
-    return "\n".join(lines) + "\n"
 
 
 @pytest.mark.parametrize("command", ["sif", "crosscheck"])

@@ -15,12 +15,18 @@ exception, gmsh aborting, a NaN) fails.
 The mesher runs first in its worker process (`timeout`), so that a gmsh
 abort fails the example instead of killing pytest; then `wingcrack.sif`
 runs in this process. WINGCRACK_PROPERTY_EXAMPLES sets the number of
-examples (`make test`: 50, `make soak`: 500).
+examples (`make test`: 50, `make soak`: 500); WINGCRACK_PROPERTY_LOG names
+a file that gets one line per example (family, k, outcome), to see how the
+examples split between refused and computed. A few fixed examples also go
+through the installed console script, as a user runs it.
 """
 from __future__ import annotations
 
 import math
 import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -33,7 +39,7 @@ import wingcrack  # noqa: E402
 from meshing import crack_mesh  # noqa: E402
 from wingcrack.errors import CaseError  # noqa: E402
 
-from admissibility_cases import THRESHOLD, family, place  # noqa: E402
+from admissibility_cases import THRESHOLD, family, place, to_toml  # noqa: E402
 
 EXAMPLES = int(os.environ.get("WINGCRACK_PROPERTY_EXAMPLES", "50"))
 DELTAS = [-0.1, -1e-3, -1e-6, -1e-9, 0.0, 1e-9, 1e-6, 1e-3, 1e-2, 0.1, 0.5]
@@ -89,3 +95,21 @@ def test_check_refuses_or_sif_computes(example):
         with open(os.environ["WINGCRACK_PROPERTY_LOG"], "a") as log:
             print(name, f"{k:.9g}", d["mesh"]["tip_size"], d["domain"], outcome[0],
                   outcome[1] if outcome[0] == "refused" else "", file=log)
+
+
+@pytest.mark.parametrize("name, k, where", [
+    ("short", 2.5 * (1 - 1e-6), {}), ("short", 2.5 * (1 + 1e-3), {"scale": 1e-9}),
+    ("boundary", 1.5 * (1 + 1e-6), {"offset": 1e5, "angle": 0.3}), ("pin", 1e-5, {}),
+])
+def test_the_console_script_refuses_with_2_or_computes_with_0(tmp_path, name, k, where):
+    path = tmp_path / "case.toml"
+    path.write_text(to_toml(place(family(name, k), **where)))
+    exe = Path(sys.executable).with_name("wingcrack")
+    check = subprocess.run([str(exe), "check", str(path)], capture_output=True, text=True)
+    assert check.returncode in (0, 2) and "Traceback" not in check.stderr, check.stderr
+    if check.returncode == 2:
+        assert len(check.stderr.splitlines()) == 1 and check.stderr.startswith("wingcrack: error: ")
+        return
+    sif = subprocess.run([str(exe), "sif", str(path), "-o", str(tmp_path / "out"), "--quiet"], capture_output=True,
+                         text=True)
+    assert sif.returncode == 0 and "Traceback" not in sif.stderr, sif.stderr
