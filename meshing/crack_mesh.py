@@ -116,8 +116,11 @@ def crack_mesh(
     the point, and the junction node gets three copies.
     Each call opens and closes its own gmsh session (gmsh.initialize /
     finalize), so do not call it while holding a gmsh session of your own.
-    Raises ValueError for geometry that cannot be meshed as asked, RuntimeError
-    when gmsh fails or a cell comes out inverted.
+    Raises ValueError for geometry that cannot be meshed as asked (a rule of
+    meshing/admissibility.py, the one `wingcrack check` applies: Inadmissible,
+    its text naming the case key), RuntimeError when gmsh fails or a cell
+    comes out inverted. gmsh sees the geometry in an exact frame of its own
+    (_Frame): any domain size and offset the rules allow mesh alike.
     """
     from wingcrack import _kernels
 
