@@ -272,7 +272,12 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
     case check asks a few REL_TOL more than the mesher, which sees the mouths
     moved onto the boundary (by up to REL_TOL), so that a geometry on the
     edge of a rule is not accepted by one and refused by the other."""
-    K = _kernels()
+    polylines = [np.asarray(p, dtype=np.float64) for p in polylines]
+    if polylines:  # every segment at once: (m, 2) ends, fracture and index of each
+        a = np.concatenate([p[:-1] for p in polylines])
+        ab = np.concatenate([p[1:] for p in polylines]) - a
+        owner = np.concatenate([np.full(len(p) - 1, f) for f, p in enumerate(polylines)])
+        index = np.concatenate([np.arange(len(p) - 1) for p in polylines])
     for t in tips:
         where = f"the rosette of fractures[{t.fracture}] end {t.end} (radius {t.h:g})"
         if t.h < MIN_ROSETTE * tip:
@@ -283,36 +288,40 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
         if d <= TIP_CLEARANCE * t.h + margin:
             return Problem(key, f"{where} reaches the boundary: the tip is {d:.7g} m ({d / t.h:.7g} radii) "
                                 f"from it, it needs {TIP_CLEARANCE:g} radii")
-        for f, pts in enumerate(polylines):
-            n = len(pts) - 1
-            for s in range(n):
-                reach, what = TIP_CLEARANCE, f"fractures[{f}]"
-                if f == t.fracture:
-                    own, neighbour = (0, 1) if t.end == 0 else (n - 1, n - 2)
-                    if s == own:
-                        continue
-                    what = f"segment {s} of its own fracture"
-                    if s == neighbour:  # shares the kink point: the disc must only stay off it
-                        reach = NEIGHBOUR_CLEARANCE
-                d, _ = K.point_segment_distance(t.x, pts[s], pts[s + 1])
-                if d <= reach * t.h + margin:
-                    return Problem(key, f"{where} reaches {what}: the tip is {d:.7g} m ({d / t.h:.7g} radii) "
-                                        f"from it, it needs {reach:g} radii")
-    for a in range(len(tips)):
-        for b in range(a + 1, len(tips)):
-            s, t = tips[a], tips[b]
-            d = float(np.linalg.norm(s.x - t.x))
-            need = rosettes_apart(s.h, t.h)
-            if d <= need + margin:
-                return Problem(key, f"the rosettes of fractures[{s.fracture}] end {s.end} and fractures[{t.fracture}] "
-                                    f"end {t.end} (radii {s.h:g}, {t.h:g}) overlap: the tips are {d:.6g} m apart, "
-                                    f"they need more than {need:.6g} m")
+        if not polylines:
+            continue
+        u = np.clip(np.einsum("ij,ij->i", t.x - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+        d = np.linalg.norm(t.x - a - u[:, None] * ab, axis=1)
+        n = len(polylines[t.fracture]) - 1
+        mine = owner == t.fracture
+        own = mine & (index == (0 if t.end == 0 else n - 1))
+        # the segment before its own shares the kink point: the disc must only stay off it
+        neighbour = mine & (index == (1 if t.end == 0 else n - 2))
+        reach = np.where(neighbour, NEIGHBOUR_CLEARANCE, TIP_CLEARANCE)
+        hit = np.flatnonzero((d <= reach * t.h + margin) & ~own)
+        if len(hit):
+            k = hit[0]
+            what = f"segment {index[k]} of its own fracture" if mine[k] else f"fractures[{owner[k]}]"
+            return Problem(key, f"{where} reaches {what}: the tip is {d[k]:.7g} m ({d[k] / t.h:.7g} radii) "
+                                f"from it, it needs {reach[k]:g} radii")
+    x = np.array([t.x for t in tips], dtype=np.float64).reshape(-1, 2)
+    h = np.array([t.h for t in tips], dtype=np.float64)
+    for i in range(len(tips) - 1):
+        d = np.linalg.norm(x[i + 1:] - x[i], axis=1)
+        need = rosettes_apart(h[i], h[i + 1:])
+        hit = np.flatnonzero(d <= need + margin)
+        if len(hit):
+            k = hit[0]
+            s, t = tips[i], tips[i + 1 + k]
+            return Problem(key, f"the rosettes of fractures[{s.fracture}] end {s.end} and fractures[{t.fracture}] "
+                                f"end {t.end} (radii {s.h:g}, {t.h:g}) overlap: the tips are {d[k]:.6g} m apart, "
+                                f"they need more than {need[k]:.6g} m")
     return None
 
 
-def rosettes_apart(h_a: float, h_b: float) -> float:
-    """The least distance between two tips with rosettes of radii h_a and h_b."""
-    return h_a + h_b + GAP * max(h_a, h_b)
+def rosettes_apart(h_a, h_b):
+    """The least distance between two tips with rosettes of radii h_a and h_b (numbers or arrays)."""
+    return h_a + h_b + GAP * np.maximum(h_a, h_b)
 
 
 def segments_hold_rosettes(polylines, tip: float, key: str = "mesh.tip_size") -> Problem | None:
@@ -357,15 +366,18 @@ def anchors_apart(domain, points, point_keys, polylines, tip: float) -> Problem 
             if domain.on_boundary(pts[i], tol):
                 named.append((np.asarray(pts[i], dtype=np.float64), f"{fracture_key(f)}[{i}]",
                               f"the mouth of fractures[{f}]"))
-    corners = [(np.asarray(c, dtype=np.float64), None, f"the corner ({c[0]:g}, {c[1]:g})") for c in domain.vertices()]
+    corners = np.asarray(domain.vertices(), dtype=np.float64).reshape(-1, 2)
+    x = np.array([p for p, _, _ in named], dtype=np.float64).reshape(-1, 2)
     for a in range(len(named)):
         p, key, _ = named[a]
-        for q, _, what in named[:a] + corners:
-            d = float(np.linalg.norm(p - q))
-            if tol < d < gap:
-                return Problem(key, f"({p[0]:.10g}, {p[1]:.10g}) is {d:.3g} m from {what}: boundary points that "
-                                    f"become mesh nodes coincide or lie at least {ANCHOR_GAP:g} tip_size "
-                                    f"({gap:g} m) apart")
+        d = np.linalg.norm(np.concatenate([x[:a], corners]) - p, axis=1)
+        hit = np.flatnonzero((d > tol) & (d < gap))
+        if len(hit):
+            k = hit[0]
+            what = named[k][2] if k < a else "the corner ({:g}, {:g})".format(*corners[k - a])
+            return Problem(key, f"({p[0]:.10g}, {p[1]:.10g}) is {d[k]:.3g} m from {what}: boundary points that "
+                                f"become mesh nodes coincide or lie at least {ANCHOR_GAP:g} tip_size "
+                                f"({gap:g} m) apart")
     return None
 
 
