@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from meshing import point_symmetry
+from meshing import admissibility, point_symmetry
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout, call_with_timeout
 
@@ -49,7 +49,7 @@ TIP_GRADING = 0.3
 CRACK_SIZE_IN_TIPS = 2.0
 # Ends of fractures and bc points closer than this (times the domain diameter)
 # to the boundary are on it.
-ON_BOUNDARY = 1e-9
+ON_BOUNDARY = admissibility.REL_TOL
 
 
 @dataclass
@@ -114,8 +114,11 @@ def crack_mesh(
     the point, and the junction node gets three copies.
     Each call opens and closes its own gmsh session (gmsh.initialize /
     finalize), so do not call it while holding a gmsh session of your own.
-    Raises ValueError for geometry that cannot be meshed as asked, RuntimeError
-    when gmsh fails or a cell comes out inverted.
+    Raises ValueError for geometry that cannot be meshed as asked (a rule of
+    meshing/admissibility.py, the one `wingcrack check` applies: Inadmissible,
+    its text naming the case key), RuntimeError when gmsh fails or a cell
+    comes out inverted. gmsh sees the geometry in an exact frame of its own
+    (_Frame): any domain size and offset the rules allow mesh alike.
     """
     import wingcrack_kernels as _kernels
 
@@ -127,6 +130,12 @@ def crack_mesh(
     if not (0.0 < tip_size < size):
         raise ValueError(f"need 0 < tip_size < size, got tip_size={tip_size}, size={size}")
     plan = _plan(domain, fractures, points, tip_size)
+    # from here on in gmsh's frame: the checks above spoke in the caller's
+    frame = _Frame.of(domain)
+    domain, plan = frame.domain(domain), frame.plan(plan)
+    size, tip_size = size / frame.scale, tip_size / frame.scale
+    if sizes is not None:
+        sizes = (frame.to(sizes[0]), np.asarray(sizes[1], dtype=np.float64) / frame.scale)
     half = point_symmetry.find_half(
         domain, plan.fractures, [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors], tip_size
     )
@@ -167,6 +176,9 @@ def crack_mesh(
         bad = int(np.argmin(jac))
         raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
     t_split = time.perf_counter() - t0
+    x, jac = frame.back(x), jac * frame.scale**2
+    for t in tips:
+        t.x, t.h = frame.back(t.x), t.h * frame.scale
 
     names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
     mesh = CrackMesh(
@@ -204,6 +216,59 @@ def crack_mesh(
     return mesh
 
 
+@dataclass(frozen=True)
+class _Frame:
+    """The coordinates gmsh sees, x' = (x - origin) / scale: the domain 2^-10
+    to 2^10 units across and its centre within 32 sizes of the origin, where
+    gmsh's absolute tolerances hold (it fails to recover edges of a domain
+    4e-9 m across, and the divider's periodic nodes stop mirroring at 3e4
+    sizes from the origin). scale is a power of two and origin a multiple
+    of a power of two above the domain's size, so the map is exact both
+    ways for the given geometry and gmsh meshes a moved or scaled geometry
+    exactly as the original; for domains of 1e-3 to 1e3 m near the origin
+    (every case in cases/) it is the identity."""
+
+    origin: np.ndarray
+    scale: float
+
+    @classmethod
+    def of(cls, domain: Domain) -> _Frame:
+        size = float(domain.length_scale())
+        scale = 2.0 ** (20 * round(math.log2(size) / 20))
+        if domain.shape == "disc":
+            centre = np.asarray(domain.center, dtype=np.float64)
+        else:
+            v = domain.vertices()
+            centre = 0.5 * (v.min(axis=0) + v.max(axis=0))
+        grid = 2.0 ** (math.floor(math.log2(size)) + 6)
+        return cls(np.round(centre / grid) * grid, scale)
+
+    def to(self, x) -> np.ndarray:
+        return (np.asarray(x, dtype=np.float64) - self.origin) / self.scale
+
+    def back(self, x) -> np.ndarray:
+        return np.asarray(x, dtype=np.float64) * self.scale + self.origin
+
+    def domain(self, domain: Domain) -> Domain:
+        if self.scale == 1.0 and not self.origin.any():
+            return domain
+        if domain.shape == "disc":
+            return Domain("disc", center=self.to(domain.center), radius=domain.radius / self.scale)
+        if domain.shape == "rectangle":
+            return Domain("rectangle", corner=self.to(domain.corner), size=domain.size / self.scale)
+        return Domain("polygon", points=self.to(domain.points))
+
+    def plan(self, plan: _Plan) -> _Plan:
+        if self.scale == 1.0 and not self.origin.any():
+            return plan
+        return dataclasses.replace(
+            plan,
+            fractures=[self.to(p) for p in plan.fractures],
+            tips=[dataclasses.replace(t, x=self.to(t.x), h=t.h / self.scale) for t in plan.tips],
+            anchors=[(edge, param, self.to(p)) for edge, param, p in plan.anchors],
+        )
+
+
 def triangle_quality(x, cells) -> np.ndarray:
     """(m,) shape quality of the straight vertex triangles: 4 sqrt(3) area /
     sum of squared edge lengths, 1 for an equilateral triangle, 0 when
@@ -238,8 +303,7 @@ class _Plan:
     # (fracture, end) -> (host fracture, vertex of the host's polyline) at a T
 
 
-#: a tip's rosette radius is at most this fraction of its last segment
-ROSETTE_IN_SEGMENT = 0.75
+ROSETTE_IN_SEGMENT = admissibility.ROSETTE_IN_SEGMENT
 
 
 def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
@@ -286,13 +350,7 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
         i, j = (0, 1) if end == 0 else (-1, -2)
         back = pts[j] - pts[i]
         length = float(np.linalg.norm(back))
-        h = min(tip_size, ROSETTE_IN_SEGMENT * length)
-        if h < 0.1 * tip_size:
-            raise ValueError(
-                f"fracture {f}: the segment at end {end} ({length:.3g}) is too short for a tip rosette "
-                f"(tip_size {tip_size:.3g})"
-            )
-        tips.append(_Tip(f, end, pts[i].copy(), back / length, h))
+        tips.append(_Tip(f, end, pts[i].copy(), back / length, admissibility.rosette_radius(tip_size, length)))
 
     point_anchor = []
     for q, p in enumerate(points):
@@ -301,7 +359,8 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
             raise ValueError(f"bc point {q} at {p.tolist()} is not on the boundary")
         point_anchor.append(anchor(p))
 
-    _check_rosettes_fit(domain, polylines, tips, junction)
+    rosettes = [admissibility.Rosette(t.fracture, t.end, t.x, t.h) for t in tips]
+    admissibility.require(admissibility.rosettes(domain, polylines, rosettes, tip_size))
     return _Plan(polylines, tips, anchors, point_anchor, mouth_anchor, junction)
 
 
@@ -373,34 +432,6 @@ def _junctions(polylines, free_ends, tol):
     for (f, end), (g, vertex) in junction.items():  # the same coordinates, bit for bit
         polylines[f][0 if end == 0 else -1] = polylines[g][vertex]
     return polylines, junction, met
-
-
-def _check_rosettes_fit(domain: Domain, polylines, tips, junction) -> None:
-    """A rosette disc must hold nothing but its own crack's last segment."""
-    for t in tips:
-        if domain.distance_to_boundary(t.x) <= 1.5 * t.h:
-            raise ValueError(f"tip at {t.x.tolist()} is closer than 1.5 tip_size to the boundary")
-        for f, pts in enumerate(polylines):
-            n = len(pts) - 1
-            for s in range(n):
-                reach = 1.5 * t.h
-                if f == t.fracture:
-                    own, neighbour = (0, 1) if t.end == 0 else (n - 1, n - 2)
-                    if s == own:
-                        continue
-                    if s == neighbour:  # shares the kink point: must only stay outside the disc
-                        reach = 1.05 * t.h
-                if _point_segment_distance(t.x, pts[s], pts[s + 1]) <= reach:
-                    raise ValueError(
-                        f"tip {t.end} of fracture {t.fracture} is closer than 1.5 tip_size "
-                        f"to segment {s} of fracture {f}"
-                    )
-
-
-def _point_segment_distance(p, a, b) -> float:
-    ab = b - a
-    t = np.clip(np.dot(p - a, ab) / np.dot(ab, ab), 0.0, 1.0)
-    return float(np.linalg.norm(p - a - t * ab))
 
 
 # -- 2. gmsh -----------------------------------------------------------------------

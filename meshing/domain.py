@@ -1,8 +1,10 @@
 """The outer domain of a case: a disc, a rectangle or a polygon, with named boundaries.
 
-Pure numpy. Lengths in metres. A rectangle's boundaries are "left", "right",
-"bottom", "top"; a polygon's (points counter-clockwise) "edge0".."edgeN-1",
-edge i running from point i to point i+1; a disc's whole rim is "rim".
+Pure numpy; a polygon is checked by the rules of `wingcrack check`
+(meshing/admissibility.py). Lengths in metres. A rectangle's boundaries are
+"left", "right", "bottom", "top"; a polygon's (points counter-clockwise)
+"edge0".."edgeN-1", edge i running from point i to point i+1; a disc's
+whole rim is "rim".
 Every query takes one point (2,) or many (n, 2) and answers in kind.
 """
 
@@ -11,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from meshing import admissibility
 
 SHAPES = ("disc", "rectangle", "polygon")
 
@@ -48,10 +52,7 @@ class Domain:
             if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 3 or not np.all(np.isfinite(pts)):
                 raise ValueError("polygon points must be at least 3 finite [x, y] pairs")
             object.__setattr__(self, "points", pts)
-            if _shoelace(pts) <= 0.0:
-                raise ValueError("polygon points must be counter-clockwise (positive area)")
-            if _polygon_self_intersects(pts):
-                raise ValueError("polygon edges must not cross or touch each other")
+            admissibility.require(admissibility.polygon(pts, "points"))  # the rules of `wingcrack check`
 
     # -- the boundary as pieces -------------------------------------------------
     def vertices(self) -> np.ndarray:
@@ -178,26 +179,3 @@ def _winding_inside(q: np.ndarray, v: np.ndarray) -> np.ndarray:
         xc = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
     return (np.sum(crosses & (x < xc), axis=1) % 2) == 1
 
-
-def _polygon_self_intersects(v: np.ndarray) -> bool:
-    n = len(v)
-    a, b = v, np.roll(v, -1, axis=0)
-
-    def orient(p, q, r):
-        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
-
-    for i in range(n):
-        for j in range(i + 1, n):
-            if j == i + 1 or (i == 0 and j == n - 1):
-                continue  # neighbours share a vertex
-            d1, d2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
-            d3, d4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
-            if d1 * d2 <= 0.0 and d3 * d4 <= 0.0:
-                # collinear disjoint segments also give zeros: check overlap of extents
-                if d1 == d2 == d3 == d4 == 0.0:
-                    lo = np.maximum(np.minimum(a[i], b[i]), np.minimum(a[j], b[j]))
-                    hi = np.minimum(np.maximum(a[i], b[i]), np.maximum(a[j], b[j]))
-                    if np.any(lo > hi):
-                        continue
-                return True
-    return False

@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from meshing import admissibility  # the mesher's own rules: what `check` accepts it meshes
 from meshing.domain import Domain  # pure numpy: `check` needs neither gmsh nor DOLFINx
 from wingcrack import _kernels  # geometry predicates (C++)
 from wingcrack.errors import CaseError
@@ -47,22 +48,17 @@ LOADS = ("scale", "fixed")
 SIFS = ("correlation", "interaction")
 #: Relative tolerance (times the domain length scale) for "on the boundary",
 #: "touching" and "zero length".
-REL_TOL = 1e-9
+REL_TOL = admissibility.REL_TOL
 #: Sample points per named boundary for the rigid-body check.
 _SAMPLES = 8
 #: A case file is a page of text; anything larger is refused before parsing
 #: (a 10 MB list of points would otherwise take minutes in the O(n^2) checks).
 MAX_FILE_BYTES = 1 << 20
-#: The domain size (m) the mesher and solver are verified for: a plate of
-#: 1e-9 m and of 1e9 m give the same scaled SIFs; at 1e20 m gmsh aborts and
-#: at 1e30 m it hangs.
-LENGTH_RANGE = (1e-9, 1e9)
-#: Coordinates at most this many domain sizes from the origin: beyond it the
-#: rounding of a coordinate (|x| 2.2e-16) nears the geometric tolerance REL_TOL.
-MAX_OFFSET = 1e6
-#: mesh.tip_size at least this fraction of the domain size: a smaller rosette
-#: lies within 1000 geometric tolerances of its tip.
-MIN_TIP_FRACTION = 1e3 * REL_TOL
+#: The domain size (m) the mesher and solver are verified for, and how far
+#: from the origin it may lie (in domain sizes): see meshing/admissibility.py.
+LENGTH_RANGE = admissibility.LENGTH_RANGE
+MAX_OFFSET = admissibility.MAX_OFFSET
+MIN_TIP_FRACTION = admissibility.MIN_TIP_FRACTION
 #: The most triangles mesh.size may ask for (area / (sqrt(3)/4 size^2)):
 #: about 16 million P2 DOFs, beyond what the 2-core, 24 GB machines factorise.
 MAX_ELEMENTS = 4_000_000
@@ -712,6 +708,20 @@ def _parse_domain(t: _Table):
         raise CaseError(t.path, str(err)) from None
 
 
+def _refuse(problem: admissibility.Problem | None) -> None:
+    """The mesher's rules speak in the case file's keys: a problem is the case's error."""
+    if problem is not None:
+        raise CaseError(problem.key, problem.message)
+
+
+def _check_scale(size: float, offset: float, size_key: str, offset_key: str) -> None:
+    _refuse(admissibility.scale(size, offset, size_key, offset_key))
+
+
+def _check_polygon(pts: np.ndarray, key: str) -> None:
+    _refuse(admissibility.polygon(pts, key))
+
+
 def _parse_bc(t: _Table, boundary_names, known: dict) -> BC:
     """One place and one condition; displacement_x and displacement_y
     together are one displacement condition."""
@@ -765,6 +775,16 @@ def _scales(material: Material, domain) -> dict:
     return {"E": E, "L": L, "E L": E * L, "E / (density L)": E / weight if weight > 0 else math.inf}
 
 
+def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
+    """Sizes the mesher can honour in this domain: not too many triangles, a
+    rosette well above the geometric tolerance."""
+    cells = domain.area() / (math.sqrt(3) / 4 * mesh.size**2)
+    if cells > MAX_ELEMENTS:
+        raise CaseError("mesh.size", f"{mesh.size:g} m asks for about {cells:.2g} elements in this domain of "
+                                     f"{domain.area():.4g} m^2 (at most {MAX_ELEMENTS:.2g}): use a larger size")
+    _refuse(admissibility.tip_size(mesh.tip_size, domain))
+
+
 # ---------------------------------------------------------------- the case
 
 
@@ -783,8 +803,8 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     fr_tables = top.value(section["fractures"])
     parsed = [ft.read(DESCRIPTION["fractures"], known) for ft in fr_tables]
     for ft, f in zip(fr_tables, parsed):
-        _check_fracture_geometry(f["points"], ft.key("points"), domain, tol)
-    _check_fractures_apart([f["points"] for f in parsed], tol)
+        _refuse(admissibility.fracture(f["points"], ft.key("points"), domain))
+    _refuse(admissibility.fractures_apart([f["points"] for f in parsed]))
     for f in parsed:
         f["points"].setflags(write=False)
     fractures = tuple(Fracture(**f) for f in parsed)
@@ -793,7 +813,7 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     bcs = tuple(_parse_bc(bt, domain.boundary_names(), known) for bt in bc_tables)
     for bt, bc in zip(bc_tables, bcs):
         if bc.at is not None:
-            _check_bc_point(bc.at, bt.key("at"), domain, fractures, tol)
+            _refuse(admissibility.bc_point(bc.at, bt.key("at"), domain, [f.points for f in fractures]))
     _check_bc_conflicts(bcs, domain, tol)
 
     # gravity with density 0 (the contract's example) is no body force: allowed
@@ -802,7 +822,9 @@ def _parse_case(d: dict, source: Path | None) -> Case:
 
     mesh = _parse_mesh(top.value(section["mesh"]), known)
     _check_mesh_against_domain(mesh, domain)
-    _check_mesh_against_fractures(mesh, fractures, domain, tol)
+    at = [(bt.key("at"), bc.at) for bt, bc in zip(bc_tables, bcs) if bc.at is not None]
+    _refuse(admissibility.case_geometry(domain, [f.points for f in fractures], [p for _, p in at],
+                                        [k for k, _ in at], mesh.tip_size))
     known["mesh.tip_size"] = mesh.tip_size  # a Ref: the default of propagation.length
     propagation = Propagation(**top.value(section["propagation"]).read(DESCRIPTION["propagation"], known))
 
@@ -814,80 +836,6 @@ def _parse_case(d: dict, source: Path | None) -> Case:
 # ---------------------------------------------------------------- geometry checks
 # The geometric admissibility of a case (sizes, positions, polygon, fractures,
 # points, rosettes): one block, kept apart from the reading above.
-
-
-def _strictly_inside(domain, p, tol) -> bool:
-    return bool(domain.contains(p)) and not domain.on_boundary(p, tol)
-
-
-def _far_outside(domain, p) -> bool:
-    """p outside the domain's bounding box grown by its size: decided without
-    the distance computations, whose squares overflow for p ~ 1e200."""
-    L = float(domain.length_scale())
-    if domain.shape == "disc":
-        lo, hi = domain.center - domain.radius, domain.center + domain.radius
-    else:
-        lo, hi = domain.vertices().min(axis=0), domain.vertices().max(axis=0)
-    return bool(np.any(np.asarray(p) < lo - L) or np.any(np.asarray(p) > hi + L))
-
-
-def _check_fracture_geometry(pts: np.ndarray, key: str, domain, tol: float) -> None:
-    for i, p in enumerate(pts):
-        if _far_outside(domain, p):
-            raise CaseError(f"{key}[{i}]", f"({p[0]:g}, {p[1]:g}) is outside the domain")
-    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-    for i, s in enumerate(seg):
-        if s <= tol:
-            raise CaseError(key, f"segment {i} (points {i} and {i + 1}) has zero length")
-    if len(pts) > 2 and _kernels.polyline_self_intersects(pts, REL_TOL):
-        raise CaseError(key, "the polyline intersects itself")
-    n = len(pts)
-    for i, p in enumerate(pts):
-        if (i == 0 or i == n - 1) and domain.on_boundary(p, tol):
-            continue  # an edge crack's mouth
-        if not _strictly_inside(domain, p, tol):
-            where = "on the boundary (only an end may be)" if domain.on_boundary(p, tol) else "outside the domain"
-            raise CaseError(f"{key}[{i}]", f"({p[0]:g}, {p[1]:g}) is {where}")
-    # Every point inside does not keep a segment inside: a chord between two
-    # boundary ends may run along the boundary, and a polygon may be concave.
-    for i in range(n - 1):
-        mid = 0.5 * (pts[i] + pts[i + 1])
-        if not _strictly_inside(domain, mid, tol):
-            raise CaseError(key, f"segment {i} runs along or outside the boundary")
-    if domain.shape == "polygon":  # rectangles and discs are convex
-        poly = domain.vertices()
-        m = len(poly)
-        for i in range(n - 1):
-            for j in range(m):
-                hit, _, _, x = _kernels.segment_intersection(pts[i], pts[i + 1], poly[j], poly[(j + 1) % m], REL_TOL)
-                if not hit:
-                    continue
-                x = np.asarray(x)
-                at_mouth = (i == 0 and np.linalg.norm(x - pts[0]) <= tol) or (
-                    i == n - 2 and np.linalg.norm(x - pts[-1]) <= tol
-                )
-                if not at_mouth:
-                    raise CaseError(key, f"segment {i} crosses the boundary edge{j}")
-    if domain.on_boundary(pts[0], tol) and domain.on_boundary(pts[-1], tol):
-        raise CaseError(key, "both ends lie on the boundary: the fracture cuts the domain in two")
-
-
-def _check_fractures_apart(polylines: list[np.ndarray], tol: float) -> None:
-    for i in range(len(polylines)):
-        for j in range(i + 1, len(polylines)):
-            if _kernels.polylines_intersect(polylines[i], polylines[j], REL_TOL):
-                raise CaseError(f"fractures[{j}].points", f"crosses or touches fractures[{i}]")
-
-
-def _check_bc_point(p, key: str, domain, fractures, tol: float) -> None:
-    if _far_outside(domain, p):
-        raise CaseError(key, f"({p[0]:g}, {p[1]:g}) is not on the boundary (it is far outside the domain)")
-    if not domain.on_boundary(np.asarray(p, dtype=float), tol):
-        d = float(domain.distance_to_boundary(np.asarray(p, dtype=float)))
-        raise CaseError(key, f"({p[0]:g}, {p[1]:g}) is not on the boundary (it is {d:.3g} m away)")
-    for i, f in enumerate(fractures):
-        if _kernels.point_polyline_distance(np.asarray(p, dtype=float), f.points) <= tol:
-            raise CaseError(key, f"({p[0]:g}, {p[1]:g}) is the mouth of fractures[{i}]; a point condition there is ambiguous")
 
 
 def _on_named_boundary(domain, name: str, p, tol: float) -> bool:
@@ -937,78 +885,6 @@ def _check_bc_conflicts(bcs, domain, tol: float) -> None:
             if where is not None:
                 raise CaseError(f"bc[{j}]", f"displacement {differ[0]} conflicts with bc[{i}] {where}")
         seen.append((j, bc))
-
-
-def _check_mesh_against_fractures(mesh: MeshOptions, fractures, domain, tol: float) -> None:
-    h = mesh.tip_size
-    for i, f in enumerate(fractures):
-        shortest = float(np.linalg.norm(np.diff(f.points, axis=0), axis=1).min())
-        if h >= shortest:
-            raise CaseError(
-                "mesh.tip_size", f"must be smaller than the shortest segment of fractures[{i}] ({h:g} >= {shortest:g})"
-            )
-    for i, f in enumerate(fractures):
-        for end, p in ((0, f.points[0]), (1, f.points[-1])):
-            if domain.on_boundary(p, tol):
-                continue
-            if float(domain.distance_to_boundary(p)) <= h:
-                raise CaseError(
-                    "mesh.tip_size", f"the rosette of fractures[{i}] end {end} (radius {h:g}) reaches the boundary"
-                )
-            for j, g in enumerate(fractures):
-                if j != i and _kernels.point_polyline_distance(p, g.points) <= h:
-                    raise CaseError(
-                        "mesh.tip_size", f"the rosette of fractures[{i}] end {end} (radius {h:g}) reaches fractures[{j}]"
-                    )
-
-
-
-def _check_scale(size: float, offset: float, size_key: str, offset_key: str) -> None:
-    """The domain's size within LENGTH_RANGE, and its coordinates within MAX_OFFSET sizes of the origin."""
-    lo, hi = LENGTH_RANGE
-    if not lo <= size <= hi:
-        raise CaseError(size_key, f"a domain {size:g} m across is outside the verified range {lo:g} .. {hi:g} m")
-    if offset > MAX_OFFSET * size:
-        raise CaseError(offset_key, f"coordinates {offset:g} m from the origin are over {MAX_OFFSET:g} times "
-                                    f"the domain size ({size:g} m): move the origin near the domain")
-
-
-def _check_polygon(pts: np.ndarray, key: str) -> None:
-    extent = float(np.ptp(pts, axis=0).max())
-    tol = REL_TOL * max(extent, np.finfo(float).tiny)
-    edges = np.roll(pts, -1, axis=0) - pts
-    for i, e in enumerate(edges):
-        if np.linalg.norm(e) <= tol:
-            raise CaseError(key, f"edge{i} has zero length (points {i} and {(i + 1) % len(pts)} coincide)")
-    # Shoelace: twice the signed area, > 0 counter-clockwise.
-    area2 = float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
-    if _kernels.polyline_self_intersects(pts, REL_TOL):
-        raise CaseError(key, "the polygon intersects itself")
-    n = len(pts)
-    # The closing edge (n-1 -> 0) against every edge not adjacent to it.
-    for j in range(1, n - 2):
-        hit = _kernels.segment_intersection(pts[n - 1], pts[0], pts[j], pts[j + 1], REL_TOL)[0]
-        if hit:
-            raise CaseError(key, f"the polygon intersects itself (edge{n - 1} meets edge{j})")
-    if abs(area2) <= tol * extent:
-        raise CaseError(key, "the polygon has no area")
-    if area2 < 0:
-        raise CaseError(key, "points must run counter-clockwise (they run clockwise)")
-
-
-
-def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
-    """Sizes the mesher can honour in this domain: not too many triangles, a
-    rosette well above the geometric tolerance."""
-    L = float(domain.length_scale())
-    cells = domain.area() / (math.sqrt(3) / 4 * mesh.size**2)
-    if cells > MAX_ELEMENTS:
-        raise CaseError("mesh.size", f"{mesh.size:g} m asks for about {cells:.2g} elements in this domain of "
-                                     f"{domain.area():.4g} m^2 (at most {MAX_ELEMENTS:.2g}): use a larger size")
-    if mesh.tip_size < MIN_TIP_FRACTION * L:
-        raise CaseError("mesh.tip_size", f"{mesh.tip_size:g} m is below {MIN_TIP_FRACTION:g} of the domain size "
-                                         f"({L:g} m): too close to the geometric tolerance")
-
 
 
 # ---------------------------------------------------------------- rigid-body check

@@ -7,14 +7,19 @@ The proposed new segment [tip, tip + L d] is checked, in this order:
    tip is "joined" / "boundary" there: fractures never cross;
 2. does the new tip come within `reach` of a fracture or the boundary? Then
    the crack is stretched along its direction onto it when that is within
-   reach + L, or else sent to the closest point of it.
+   reach + L, or else sent to the closest point of it;
+3. does it come so near another free tip that their rosettes would overlap
+   (meshing.admissibility.rosettes_apart)? Then it meets that tip.
 `reach` is the join distance: the rosette radius h in the paper; wingcrack
-uses 1.5 h, the closest a rosette may come to another fracture or the
-boundary without squeezing the mesh between them.
+uses admissibility.TIP_CLEARANCE h, the closest the mesher lets a rosette
+come to another fracture or the boundary: a tip that does not join keeps
+the clearances the next mesh needs.
 """
 from __future__ import annotations
 
 import numpy as np
+
+from meshing import admissibility
 
 from .. import _kernels as K
 
@@ -86,7 +91,7 @@ def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: 
         if i == fi:
             # all of its own polyline but the segment at the tip: after the step
             # that segment is the new tip's neighbour, the one before it is the
-            # mesher's (crack_mesh._check_rosettes_fit) like any other fracture
+            # mesher's (meshing.admissibility.rosettes) like any other fracture
             pts = pts[:-1] if end == 1 else pts[1:]
             if len(pts) < 2:
                 continue
@@ -98,4 +103,12 @@ def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: 
         return np.asarray(domain.project(b)[0]), "boundary"
     if dmin < reach:
         return foot, "joined"
+    # the rosette radius the reach is made of; the next mesh's is at most this
+    h = reach / admissibility.TIP_CLEARANCE
+    for i, g in enumerate(fset.fractures):
+        for e in (0, 1):
+            if (i, e) != (fi, end) and g.ends[e] == "tip" and \
+                    np.linalg.norm(g.tip(e) - b) <= admissibility.rosettes_apart(h, h):
+                # its own other tip: the caller sees a join on its own fracture (no growth)
+                return g.tip(e).copy(), "joined"
     return b, "tip"

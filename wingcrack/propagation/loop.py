@@ -25,12 +25,13 @@ from .fracture_set import FractureSet
 from .growth_law import STRAIGHT, advances
 from . import checkpoint, interrupt
 from .joining import place_tip
+from meshing.admissibility import TIP_CLEARANCE
 from ..results import LastSolve, dataframe, tip_rows
 from ..adaptivity import next_sizes
 from ..parallel import snap
 
 #: the join distance, in rosette radii (see joining.py)
-REACH = 1.5
+REACH = TIP_CLEARANCE
 #: relative tolerance of "K_eq reached KIc". Tips that the discretisation
 #: cannot tell apart (displacement correlation is ~1e-3 accurate; the two
 #: tips of the symmetric disc differ by ~3e-5 on an unsymmetric mesh) grow
@@ -211,6 +212,8 @@ def _run(case, out, progress, mesh_timeout, resume) -> RunResult:
                     continue
                 t = tips[i]
                 f = fset.fractures[t.fracture]
+                if f.ends[t.end] != "tip":
+                    continue   # met end to end by a tip that grew before it in this step
                 tipinfo = cm.tips[i]
                 d = np.cos(theta[j]) * np.asarray(tipinfo.ex) + np.sin(theta[j]) * np.asarray(tipinfo.ey)
                 p, state = place_tip(fset, t.fracture, t.end, d, L[j], case.domain, REACH * h)
