@@ -72,9 +72,9 @@ def test_a_wing_joins_another_fracture_as_a_t(tmp_path):
 def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):
     """A failure at step 2 (here: meshing) ends the run with 'failed: ...'
     and summary.json still holds steps 0 and 1."""
-    import wingcrack.api as api
+    import wingcrack.step as step
 
-    real = api.build
+    real = step.discretise
     calls = {"n": 0}
 
     def flaky(*a, **k):
@@ -83,7 +83,7 @@ def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):
             raise RuntimeError("gmsh could not mesh (simulated)")
         return real(*a, **k)
 
-    monkeypatch.setattr(api, "build", flaky)
+    monkeypatch.setattr(step, "discretise", flaky)
     with pytest.raises(ComputationError, match="failed: step 2"):
         run(tension_plate(), out=tmp_path)
     saved = json.loads((tmp_path / "summary.json").read_text())

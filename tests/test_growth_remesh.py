@@ -9,7 +9,7 @@ quarter points at h/4); the cell count of uniform meshes at `size` and at
 import numpy as np
 import pytest
 
-import wingcrack.api as api
+import wingcrack.step as step
 from builders import square_plate_with_cracks
 from meshing.crack_mesh import triangle_quality
 from wingcrack.api import run
@@ -28,14 +28,14 @@ def plate(cracks, steps, length=0.1, tip_size=0.05, size=0.5, adaptive=True):
 
 def capture_meshes(monkeypatch):
     meshes = []
-    real = api.build
+    real = step.discretise
 
-    def build(*a, **k):
+    def discretise(*a, **k):
         out = real(*a, **k)
-        meshes.append(out[0])
+        meshes.append(out.cm)
         return out
 
-    monkeypatch.setattr(api, "build", build)
+    monkeypatch.setattr(step, "discretise", discretise)
     return meshes
 
 

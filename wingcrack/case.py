@@ -23,12 +23,14 @@ import numpy as np
 from meshing.domain import Domain  # pure numpy: `check` needs neither gmsh nor DOLFINx
 from wingcrack import _kernels  # geometry predicates (C++)
 from wingcrack.errors import CaseError
+from wingcrack.propagation.growth_law import length_problem   # the Lmax rule lives with the growth law
 
 PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
 FACES = ("open", "frictionless", "slip")
 SLIP_PROFILES = ("uniform", "elliptic")
 LOADS = ("scale", "fixed")
+SIF_METHODS = ("correlation", "interaction")   # propagation.sif: which SIFs drive growth
 #: Relative tolerance (times the domain length scale) for "on the boundary",
 #: "touching" and "zero length".
 REL_TOL = 1e-9
@@ -189,7 +191,10 @@ class Propagation:
     the growth law L_adv = Lmax (G / max G)^alpha, default 0.35.
     load: "scale" (default: every bc and slip scaled by one factor that rises
     until a tip reaches KIc) or "fixed" (factor 1). max_load_factor: the
-    scaling gives up above this factor, default 100.0.
+    scaling gives up above this factor, default 100.0. sif: which SIFs
+    drive growth (critical load, kink angle, G): "correlation" (default,
+    the paper's displacement correlation) or "interaction" (the
+    interaction integral).
     """
 
     length: float
@@ -197,6 +202,7 @@ class Propagation:
     alpha: float = 0.35
     load: str = "scale"
     max_load_factor: float = 100.0
+    sif: str = "correlation"
 
 
 @dataclass(frozen=True, eq=False)
@@ -629,18 +635,22 @@ def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
 
 
 def _parse_propagation(t: _Table, tip_size: float) -> Propagation:
-    t.only(["steps", "length", "alpha", "load", "max_load_factor"])
+    t.only(["steps", "length", "alpha", "load", "max_load_factor", "sif"])
     steps = t.integer("steps", 35)
     if steps < 0:
         raise CaseError(t.key("steps"), f"must be >= 0, got {steps}")
     length = t.number("length", tip_size)
     _require_positive(length, t.key("length"))
+    problem = length_problem(length, tip_size)
+    if problem:
+        raise CaseError(t.key("length"), problem)
     alpha = t.number("alpha", 0.35)
     _require_positive(alpha, t.key("alpha"))
     load = t.choice("load", LOADS, "scale")
     mlf = t.number("max_load_factor", 100.0)
     _require_positive(mlf, t.key("max_load_factor"))
-    return Propagation(length=length, steps=steps, alpha=alpha, load=load, max_load_factor=mlf)
+    sif = t.choice("sif", SIF_METHODS, "correlation")
+    return Propagation(length=length, steps=steps, alpha=alpha, load=load, max_load_factor=mlf, sif=sif)
 
 
 # ---------------------------------------------------------------- the case

@@ -14,3 +14,12 @@ class _QuietCompiler(logging.Filter):
 
 for _handler in logging.getLogger().handlers:
     _handler.addFilter(_QuietCompiler())
+
+
+def preload():
+    """Import the DOLFINx, ufl and PETSc modules and wingcrack's form modules
+    now, so that a caller can freeze their objects for the garbage collector."""
+    import dolfinx.fem.petsc  # noqa: F401
+    import ufl  # noqa: F401
+
+    from . import elasticity, interaction_integral  # noqa: F401

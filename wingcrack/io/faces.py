@@ -32,15 +32,6 @@ def face_state(sol) -> dict:
             "plus": pairs[:, 0]}
 
 
-def closed_segments(sol) -> list:
-    """Crack edges (+ face) whose two vertices are closed pairs, as segments."""
-    st = face_state(sol)
-    closed_nodes = set(st["plus"][st["closed"]].tolist())
-    x = np.asarray(sol.cm.x)
-    return [(x[a], x[b]) for a, b, _ in np.asarray(sol.cm.crack_edges)
-            if a in closed_nodes and b in closed_nodes]
-
-
 def write_faces(path: Path, sol, field_data: dict | None = None) -> Path:
     """line3 cells of the + faces; point data at the + face nodes (zero at
     tips, which are not pairs); `field_data` ({name: number}) as in
