@@ -20,7 +20,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-NUS = (0.25, 0.4, 0.45, 0.49, 0.499, 0.4999)
+NUS = (0.25, 0.4, 0.45, 0.49, 0.495, 0.497, 0.499, 0.4999)
 SIGMA, A, BETA = 1.0e6, 1.0, 45.0
 
 
