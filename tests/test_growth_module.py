@@ -129,3 +129,10 @@ def test_length_under_l_min_is_refused_up_front(tmp_path):
     assert "0.008" in str(err.value)   # the smallest length that works
     d["propagation"]["length"] = 0.008
     assert Case.from_dict(d).propagation.length == 0.008
+
+
+def test_length_beyond_the_domain_is_refused():
+    """A step longer than the domain cannot happen (the tip reaches the
+    boundary first), and 1e300 m overflowed the geometry: refused."""
+    assert length_problem(2.0, 0.02, domain_size=2.0) is None
+    assert "longer than the domain" in length_problem(1e300, 0.02, domain_size=2.0)

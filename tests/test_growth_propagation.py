@@ -147,3 +147,15 @@ def test_the_open_disc_with_half_steps_grows_every_step(tmp_path):
         # the advance is the law's L (rounded to its 1e-8 grid of Lmax)
         assert np.allclose([t["advance"] for t in s["tips"]], L, rtol=0, atol=1e-7 * 0.00025)
         assert all(t["state"] == "growing" for t in s["tips"])
+
+
+def test_a_step_that_cannot_be_recorded_fails_with_a_summary(tmp_path):
+    """A step whose record holds an inf (here: Lmax = 1e300 m, which `check`
+    refuses, set past it) fails with "failed: step 0: ..." and a summary
+    without that step, not "unexpected" with no summary at all."""
+    case = tension_plate(steps=2)
+    case = replace(case, propagation=replace(case.propagation, length=1e300))
+    with pytest.raises(ComputationError, match="failed: step 0: "):
+        run(case, out=tmp_path)
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    assert saved["status"].startswith("failed: step 0: ") and saved["steps"] == []

@@ -634,14 +634,14 @@ def _check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
                                          f"({L:g} m): too close to the geometric tolerance")
 
 
-def _parse_propagation(t: _Table, tip_size: float) -> Propagation:
+def _parse_propagation(t: _Table, tip_size: float, domain_size: float) -> Propagation:
     t.only(["steps", "length", "alpha", "load", "max_load_factor", "sif"])
     steps = t.integer("steps", 35)
     if steps < 0:
         raise CaseError(t.key("steps"), f"must be >= 0, got {steps}")
     length = t.number("length", tip_size)
     _require_positive(length, t.key("length"))
-    problem = length_problem(length, tip_size)
+    problem = length_problem(length, tip_size, domain_size)
     if problem:
         raise CaseError(t.key("length"), problem)
     alpha = t.number("alpha", 0.35)
@@ -692,7 +692,7 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     mesh = _parse_mesh(top.table("mesh", required=True))
     _check_mesh_against_domain(mesh, domain)
     _check_mesh_against_fractures(mesh, fractures, domain, tol)
-    propagation = _parse_propagation(top.table("propagation"), mesh.tip_size)
+    propagation = _parse_propagation(top.table("propagation"), mesh.tip_size, L)
 
     _check_statically_determined(bcs, domain)
 

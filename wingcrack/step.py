@@ -93,6 +93,9 @@ class Discretisation:
         forces = self.contact.nodal_forces(len(self.cm.x)) if self.contact.result is not None else None
         tips = tip_sifs(self.problem, self.cm, [np.asarray(p, float) for p in polylines], case.domain, m.E, m.nu,
                         m.plane, case.stress.tensor(), face_forces=forces)
+        for t in tips:
+            require_finite(f"a SIF at fracture {t.fracture} end {t.end}",
+                           [v for v in (t.KI, t.KII, t.KI_M, t.KII_M, t.G, t.K_eq) if v is not None])
         return driving(tips, case)
 
     def driving_sifs(self, case, polylines):
@@ -242,6 +245,16 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
                       [TipRecord.of(t, s, a) for t, s, a in zip(tips, states, advances)],
                       disc.contact_record(), seconds, {n: disc.cm.stats[n] for n in MESH_STATS}, solves,
                       sif_warnings(tips))
+
+
+def require_finite(what: str, values) -> None:
+    """ComputationError when a value of the solution is NaN or inf (a case
+    whose magnitudes floating point cannot hold): said at once, instead of
+    growth on NaN or a summary that cannot be written."""
+    bad = [v for v in np.atleast_1d(np.asarray(values, float)) if not np.isfinite(v)]
+    if bad:
+        raise ComputationError(f"the solution is not finite ({what} is {bad[0]:g}): the magnitudes of the case "
+                               "are beyond floating point")
 
 
 def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> None:

@@ -191,6 +191,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             raise
         except steps_.FAILURES as err:
             status = steps_.failure(k, err)
+            if records and records[-1].step == k:   # step k failed in its commit: it did not finish
+                records.pop()
             write(status)
             raise ComputationError(status) from None
     if finishing is not None:
@@ -224,7 +226,9 @@ def _critical_load(case, disc, fset, grow, start):
         disc.solve(load)
         KI, KII = disc.driving_sifs(case, polylines)
         th = K.mts_angle(KI[grow], KII[grow])
-        return float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
+        k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
+        steps_.require_finite("K_eq", k)
+        return k
 
     prop = case.propagation
     return critical_load_factor(keq, case.material.KIc, start, scales_with_load(case, fset), prop.max_load_factor)
