@@ -203,8 +203,8 @@ def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -
 
 def _not_drawn(what: str, err: BaseException, out) -> str:
     detail = " ".join(str(err).split())[:300] or "(no message)"
-    return f"{what} could not be drawn ({type(err).__name__}: {detail}); the data are complete, " \
-           f"`wingcrack plot {out}` draws it again"
+    return f"{what} could not be drawn ({type(err).__name__}: {detail}); the data are complete (" \
+           f"`wingcrack plot {out}` tries again)"
 
 
 def plot(folder, history: bool = True, animation: bool = True, fmt: str | None = None, summary: dict | None = None,

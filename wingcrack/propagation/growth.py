@@ -118,6 +118,20 @@ class Growth:
         return "; ".join(why) or "no tip may grow"
 
 
+def may_grow(cm, fset) -> list:
+    """Indices into cm.tips (a crack mesh's tips) of the tips that may grow:
+    free ends of fractures that grow."""
+    active = set(fset.active_tips())
+    return [i for i, t in enumerate(cm.tips) if (int(t.fracture), int(t.end)) in active]
+
+
+def candidates(tips, cm, indices) -> list:
+    """The Candidate of each tip `indices` of the step's `tips` (TipSIF, in
+    cm.tips order): its driving SIFs and its tip frame from the mesh."""
+    return [Candidate(i, tips[i].fracture, tips[i].end, tips[i].K_eq, tips[i].theta,
+                      np.asarray(cm.tips[i].ex, float), np.asarray(cm.tips[i].ey, float)) for i in indices]
+
+
 def reached(candidates, rule: Rule) -> np.ndarray:
     """Which candidates reached the toughness."""
     keq = np.array([c.K_eq for c in candidates], float)

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import _kernels as K
-from .. import step as steps_
+from .. import step
 from ..adaptivity import next_sizes
 from ..errors import ComputationError
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
@@ -62,7 +62,7 @@ class RunResult(LastSolve):
         return dataframe(tip_rows(self.steps))
 
 
-def run(case, out=None, progress=None, mesh_timeout: float | None = steps_.MESH_TIMEOUT,
+def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TIMEOUT,
         resume: bool = False, finishing=None) -> RunResult:
     """Grow the case's fractures; see the module doc. `progress(step, info)`
     is called after every step (the CLI's progress bar). With `resume`, go
@@ -121,7 +121,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     warnings = []        # about the whole run (from `finishing`)
 
     def summary_now(st) -> dict:
-        return steps_.summary(case, st, records, done.summary(), warnings).to_dict()
+        return step.summary(case, st, records, done.summary(), warnings).to_dict()
 
     def write(st):
         if out is not None and comm.rank == 0:
@@ -129,7 +129,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
 
     k = first
     for k in range(first, prop.steps):
-        timer = steps_.Timer()
+        timer = step.Timer()
         try:
             interrupt.check()
             if not fset.active_tips():
@@ -137,9 +137,9 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 break
             _release(disc)   # the previous step's factors and forms
             disc = None
-            disc = steps_.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout)
+            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout)
             interrupt.check()
-            grow = _grow_index(disc.cm, fset)
+            grow = growth.may_grow(disc.cm, fset)
             if not grow:
                 status = NO_TIP_LEFT
                 break
@@ -157,11 +157,11 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             tips = disc.sifs(case, fset.polylines())
             timer.lap("sif")
 
-            candidates = _candidates(tips, disc.cm, grow)
+            candidates = growth.candidates(tips, disc.cm, grow)
             if prop.load == "fixed" and not growth.reached(candidates, rule).any():
                 # the solved step is a result too: recorded with its files, no growth
                 status = "stopped: no tip reaches KIc under the fixed load"
-                records.append(steps_.finish(out, k, lam, disc, tips, timer, solves=1))
+                records.append(step.finish(out, k, lam, disc, tips, timer, solves=1))
                 break
             grown = growth.grow(fset, candidates, len(tips), rule, case.domain)
             timer.lap("growth")
@@ -170,12 +170,12 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 # nothing moved: the next step would be this one again. Recorded (not
                 # checkpointed: a resumed run solves it again and stops the same way)
                 status = f"stopped: no tip can grow ({grown.why_none()})"
-                records.append(steps_.finish(out, k, lam, disc, tips, timer, solves=solves))
+                records.append(step.finish(out, k, lam, disc, tips, timer, solves=solves))
                 break
             if case.mesh.adaptive:
                 sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
                 timer.lap("estimate")
-            record = steps_.finish(out, k, lam, disc, tips, timer, solves=solves,
+            record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
@@ -189,8 +189,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             status = "stopped: interrupted"
             write(status)
             raise
-        except steps_.FAILURES as err:
-            status = steps_.failure(k, err)
+        except step.FAILURES as err:
+            status = step.failure(k, err)
             if records and records[-1].step == k:   # step k failed in its commit: it did not finish
                 records.pop()
             write(status)
@@ -207,14 +207,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                        mesh=None if disc is None else disc.cm, problem=None if disc is None else disc.problem,
                        contact=None if disc is None else disc.contact)
     if out is not None:
-        result.files = steps_.files_of(out, len(records))
+        result.files = step.files_of(out, len(records))
     return result
-
-
-def _grow_index(cm, fset) -> list:
-    """Indices into cm.tips of the tips that may grow."""
-    active = set(fset.active_tips())
-    return [i for i, t in enumerate(cm.tips) if (int(t.fracture), int(t.end)) in active]
 
 
 def _critical_load(case, disc, fset, grow, start):
@@ -227,17 +221,11 @@ def _critical_load(case, disc, fset, grow, start):
         KI, KII = disc.driving_sifs(case, polylines)
         th = K.mts_angle(KI[grow], KII[grow])
         k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
-        steps_.require_finite("K_eq", k)
+        step.require_finite("K_eq", k)
         return k
 
     prop = case.propagation
     return critical_load_factor(keq, case.material.KIc, start, scales_with_load(case, fset), prop.max_load_factor)
-
-
-def _candidates(tips, cm, grow) -> list:
-    """growth.Candidate of each tip that may grow: its SIFs and tip frame."""
-    return [growth.Candidate(i, tips[i].fracture, tips[i].end, tips[i].K_eq, tips[i].theta,
-                             np.asarray(cm.tips[i].ex, float), np.asarray(cm.tips[i].ey, float)) for i in grow]
 
 
 def _release(disc):
