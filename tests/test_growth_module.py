@@ -117,6 +117,7 @@ def test_length_under_l_min_is_refused_up_front(tmp_path):
     never advances less than L_min): refused naming the key; L_min itself
     works."""
     assert length_problem(L_MIN * H, H) is None and length_problem(H, H) is None
+    assert length_problem(0.02, 0.05) is None     # 0.4 * 0.05 is 0.020000000000000004: round-off is no reason
     assert "L_min" in length_problem(0.39 * H, H)
     d = {"title": "t", "material": {"E": 1e10, "nu": 0.25, "KIc": 1e6},
          "domain": {"shape": "rectangle", "corner": [-1.0, -1.0], "size": [2.0, 2.0]},

@@ -15,6 +15,8 @@ import numpy as np
 STRAIGHT = 1e-3
 #: L_min, the shortest advance of a kinked tip, in rosette radii (mesh.tip_size)
 L_MIN = 0.4
+#: relative round-off allowed below L_min (0.4 * 0.05 is 0.020000000000000004)
+L_MIN_RTOL = 1e-9
 
 
 def advances(G, Lmax: float, alpha: float, Lmin: float, theta=None) -> np.ndarray:
@@ -29,7 +31,7 @@ def advances(G, Lmax: float, alpha: float, Lmin: float, theta=None) -> np.ndarra
     if not grow.any():
         return L
     L[grow] = Lmax * (G[grow] / G[grow].max()) ** alpha
-    short = grow & (L < Lmin)
+    short = grow & (L < Lmin * (1 - L_MIN_RTOL))
     if theta is not None:
         short &= np.abs(np.asarray(theta, float)) > STRAIGHT
     L[short] = 0.0
@@ -51,7 +53,7 @@ def length_problem(length: float, tip_size: float, domain_size: float | None = N
     first), and a far longer one breaks the geometry's arithmetic (1e300 m
     overflows), so Lmax is at most `domain_size`."""
     Lmin = L_MIN * tip_size
-    if not length >= Lmin:
+    if not length >= Lmin * (1 - L_MIN_RTOL):
         return (f"{length:g} m is under L_min = {L_MIN:g} mesh.tip_size = {Lmin:g} m: a kinked tip never advances "
                 f"less than L_min, so no tip could grow; use at least {Lmin:g} m (or a smaller mesh.tip_size)")
     if domain_size is not None and length > domain_size:
