@@ -67,7 +67,7 @@ class ContactRecord:
 class StepRecord:
     """One solved step: its number, load factor, DOFs, cells, tips, contact,
     seconds per phase, mesh statistics, the solves the critical load took,
-    and warnings (strings, e.g. SIF methods that disagree at a tip)."""
+    and warnings (strings: the tips where the two SIF methods disagree)."""
     step: int
     load_factor: float
     dofs: int
