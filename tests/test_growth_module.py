@@ -92,9 +92,9 @@ def test_the_room_for_a_rosette_is_the_meshers(clearance):
     pts = np.array([[-1.0, 0.0], [0.0, 0.0], [0.0, y - L]])   # straight up, the new point L further
     fs = fset_of(pts)
     p = np.array([0.0, y])
-    ok = growth.clear_of_own_fracture(fs, 0, 1, p, rule(L), DOMAIN)
-    assert ok == (clearance > growth.CLEAR_OTHER)
     new = np.vstack([pts, p])
+    ok = growth.clear_of_own_fracture(fs, 0, new, rule(L), DOMAIN)
+    assert ok == (clearance > growth.CLEAR_OTHER)
     if ok:
         crack_mesh(DOMAIN, [new], [], size=0.5, tip_size=H)
     else:

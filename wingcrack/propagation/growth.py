@@ -159,17 +159,20 @@ def grow(fset, candidates: list, n_tips: int, rule: Rule, domain) -> Growth:
         f = fset.fractures[c.fracture]
         d = np.cos(theta[j]) * np.asarray(c.ex, float) + np.sin(theta[j]) * np.asarray(c.ey, float)
         p, state = place_tip(fset, c.fracture, c.end, d, L[j], domain, rule.reach)
+        moves_node = abs(theta[j]) <= STRAIGHT and L[j] < Lmin   # straight on, short: the tip node moves
         if state == "joined" and on_own_fracture(f, c.end, p):
             p = f.tip(c.end) + L[j] * d
-            if not clear_of_own_fracture(fset, c.fracture, c.end, p, rule, domain):
+            pts = f.points if c.end == 1 else f.points[::-1]      # the tip last
+            grown = np.vstack([pts[:-1] if moves_node else pts, p])
+            if not clear_of_own_fracture(fset, c.fracture, grown, rule, domain):
                 tip.why = FOLDS_BACK
                 continue
             state = "tip"
         elif state == "joined":   # on another fracture's growing end: link them end to end
             p = meet_tip_to_tip(fset, c.fracture, p, rule.reach)
         a = f.tip(c.end)
-        if abs(theta[j]) <= STRAIGHT and state == "tip" and L[j] < Lmin:
-            f.move_tip(c.end, p)       # straight on: move the tip node
+        if moves_node and state == "tip":
+            f.move_tip(c.end, p)
         else:
             f.extend(c.end, p)
         f.ends[c.end] = state
@@ -190,33 +193,32 @@ def on_own_fracture(f, end, p) -> bool:
     return K.point_polyline_distance(np.asarray(p, float), pts) <= 1e-9 * scale
 
 
-def clear_of_own_fracture(fset, fi: int, end: int, p, rule: Rule, domain) -> bool:
-    """May tip `end` of fracture `fi` go straight to `p` as a free tip?
+def clear_of_own_fracture(fset, fi: int, grown, rule: Rule, domain) -> bool:
+    """May fracture `fi` become the polyline `grown` (its points after the
+    step, the growing tip last), its tip free?
 
     joining.place_tip joins a tip within `reach` (1.5 tip_size) of any
     polyline, its own included. Near its own polyline that is no join but an
     artefact of short steps: after a kink, the next step's end is about two
     step lengths from the kink point, within reach whenever the length is
     under 0.75 tip_size (the 45-degree disc with length = tip_size / 2 sat
-    at KIc without growing). The tip goes to `p` if the segment to it
-    crosses nothing and the rosette there (radius min(tip_size, 0.75 L))
+    at KIc without growing). The tip goes on if its new segment crosses
+    nothing and its rosette (radius min(tip_size, 0.75 x the new segment))
     keeps the clearances the mesher asks: CLEAR_OTHER radii from the
     boundary and its own earlier segments, CLEAR_NEIGHBOUR from the segment
-    it leaves, and `reach` from every other fracture (else place_tip would
-    have joined it)."""
-    f = fset.fractures[fi]
-    a = f.tip(end)
-    p = np.asarray(p, float)
+    before its own, and `reach` from every other fracture (else place_tip
+    would have joined it)."""
+    grown = np.asarray(grown, float)
+    p, a = grown[-1], grown[-2]
     r = min(rule.tip_size, ROSETTE_IN_SEGMENT * float(np.linalg.norm(p - a)))
     if not domain.contains(p) or domain.distance_to_boundary(p) <= max(CLEAR_OTHER * r, rule.reach):
         return False
-    pts = f.points if end == 1 else f.points[::-1]    # the tip last
-    if K.point_polyline_distance(p, pts[-2:]) <= CLEAR_NEIGHBOUR * r:
+    if len(grown) > 2 and K.point_polyline_distance(p, grown[-3:-1]) <= CLEAR_NEIGHBOUR * r:
         return False
-    if len(pts) > 2 and K.point_polyline_distance(p, pts[:-1]) <= CLEAR_OTHER * r:
+    if len(grown) > 3 and K.point_polyline_distance(p, grown[:-2]) <= CLEAR_OTHER * r:
         return False
-    for s in range(len(pts) - 2):       # the new segment [a, p] crosses none of its own earlier ones
-        hit, _, _, _ = K.segment_intersection(a, p, pts[s], pts[s + 1], 1e-12)
+    for s in range(len(grown) - 3):     # the new segment crosses none of the earlier ones
+        hit, _, _, _ = K.segment_intersection(a, p, grown[s], grown[s + 1], 1e-12)
         if hit:
             return False
     for g, other in enumerate(fset.fractures):
