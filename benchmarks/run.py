@@ -53,7 +53,7 @@ def bench_contact(repeat: int):
     import time
     from dataclasses import replace
 
-    from wingcrack.api import solve_initial
+    from wingcrack.step import solve_initial
     from wingcrack.case import Case
     from wingcrack.fem.contact_problem import ContactProblem
     from wingcrack.fem.elasticity import ElasticProblem

@@ -60,3 +60,183 @@ def test_case_errors_are_exceptions_naming_the_key():
     bad["material"]["nu"] = 0.7
     with pytest.raises(wingcrack.CaseError, match="material.nu"):
         wingcrack.Case.from_dict(bad)
+
+
+# ---------------------------------------------------------------- issue 12: one step for sif and run
+
+
+def fixed_plate(steps=1):
+    """The plate under its load as given (factor 1), below KIc."""
+    d = square_plate_with_cracks(4.0, [[[-0.5, 0.0], [0.5, 0.0]]], (0.0, 0.0, 0.0), size=0.5, tip_size=0.05)
+    d["bc"] += [{"on": "top", "traction": [0.0, 1e5]}, {"on": "bottom", "traction": [0.0, -1e5]}]
+    d["propagation"] = {"steps": steps, "length": 0.1, "load": "fixed"}
+    return wingcrack.Case.from_dict(d)
+
+
+def without_seconds(step):
+    return {k: v for k, v in step.items() if k != "seconds"}
+
+
+def test_sif_is_step_0_of_a_run(tmp_path):
+    """Reference: the run of the same case at the same load factor (1,
+    "fixed"), whose step 0 stops below KIc: the same record (mesh, DOFs,
+    SIFs of both methods, contact, mesh statistics) bit for bit, and the same
+    files, which read_result reads back the same way."""
+    from wingcrack.io.outdir import read_result
+
+    s = wingcrack.sif(fixed_plate(), out=tmp_path / "sif")
+    r = wingcrack.run(fixed_plate(), out=tmp_path / "run", plots=False)
+    assert r.status == "stopped: no tip reaches KIc under the fixed load" and len(r.steps) == 1
+    assert without_seconds(s.summary["steps"][0]) == without_seconds(r.steps[0])
+    assert s.summary["fractures"] == r.summary["fractures"]
+    names = {"summary.json", "step_0000.vtu", "faces_0000.vtu", "fields.pvd", "faces.pvd", "fractures.png"}
+    assert {p.name for p in (tmp_path / "sif").iterdir()} == names
+    assert names - {"fractures.png"} <= {p.name for p in (tmp_path / "run").iterdir()}
+    for folder in ("sif", "run"):
+        stored = read_result(tmp_path / folder)
+        assert [p.name for p in stored.fields] == ["step_0000.vtu"] and [p.name for p in stored.faces] == ["faces_0000.vtu"]
+    a, b = read_result(tmp_path / "sif").fields_of(0), read_result(tmp_path / "run").fields_of(0)
+    assert np.array_equal(a.x, b.x) and np.array_equal(a.von_mises, b.von_mises, equal_nan=True)
+
+
+def test_sif_meshes_in_the_worker_under_the_time_limit(monkeypatch):
+    """`sif` meshed in its own process with no time limit; now through the
+    meshing worker with the run's limit, like every step of a run."""
+    from meshing import worker
+
+    from wingcrack import step
+
+    seen = []
+    real = worker.call
+
+    def call(fn, args, timeout):
+        seen.append(timeout)
+        return real(fn, args, timeout)
+
+    monkeypatch.setattr(worker, "call", call)
+    wingcrack.sif(fixed_plate())
+    assert seen == [step.MESH_TIMEOUT]
+
+
+@pytest.mark.parametrize("error", [RuntimeError("gmsh could not mesh the domain: simulated"),
+                                   ValueError("tip at (0, 0) is closer than 1.5 tip_size to the boundary"),
+                                   np.linalg.LinAlgError("singular matrix"),
+                                   wingcrack.ComputationError("contact did not converge")])
+def test_sif_and_run_fail_the_same_way(tmp_path, monkeypatch, error):
+    """Either command: exit 1's ComputationError and summary.json saying
+    "failed: step 0: <reason>" (a RuntimeError in `sif` was "unexpected",
+    with no summary)."""
+    from wingcrack import step
+
+    def fail(*a, **k):
+        raise error
+
+    monkeypatch.setattr(step, "discretise", fail)
+    for name, command in (("sif", wingcrack.sif), ("run", lambda c, out: wingcrack.run(c, out=out, plots=False))):
+        out = tmp_path / name
+        with pytest.raises(wingcrack.ComputationError) as err:
+            command(fixed_plate(), out=out)
+        assert str(err.value) == f"failed: step 0: {error}"
+        saved = json.loads((out / "summary.json").read_text())
+        assert saved["status"] == str(err.value) and saved["steps"] == []
+
+
+PLATE_TOML = """
+title = "plate"
+[material]
+E = 10e9
+nu = 0.25
+KIc = 1.0e6
+[domain]
+shape = "rectangle"
+corner = [-2.0, -2.0]
+size = [4.0, 4.0]
+[[fractures]]
+points = [[-0.5, 0.0], [0.5, 0.0]]
+[[bc]]
+on = "top"
+traction = [0.0, 1e5]
+[[bc]]
+on = "bottom"
+traction = [0.0, -1e5]
+[[bc]]
+at = [-2.0, -2.0]
+displacement = [0.0, 0.0]
+[[bc]]
+at = [2.0, -2.0]
+displacement_y = 0.0
+[mesh]
+size = 0.5
+tip_size = 0.05
+[propagation]
+steps = 2
+length = 0.1
+"""
+
+
+@pytest.mark.parametrize("command", ["sif", "run"])
+def test_a_picture_that_fails_is_a_warning_not_a_failure(tmp_path, monkeypatch, capsys, command):
+    """Promise 3: fractures.png cannot be drawn (here: a simulated raster
+    overflow). Exit 0, status "finished", every data file written and
+    readable, the other pictures drawn, the failure in summary.json's
+    "warnings" and once on stderr."""
+    from wingcrack import cli
+    from wingcrack.io import pictures
+    from wingcrack.io.outdir import read_result
+
+    def broken(path, result):
+        raise ValueError("Image size of 60000000x600 pixels is too large (simulated)")
+
+    monkeypatch.setattr(pictures, "fractures_of_result", broken)
+    path = tmp_path / "plate.toml"
+    path.write_text(PLATE_TOML)
+    out = tmp_path / "out"
+    assert cli.main([command, str(path), "-o", str(out), "--quiet"]) == 0
+    captured = capsys.readouterr()
+    saved = json.loads((out / "summary.json").read_text())
+    assert saved["status"] == "finished"
+    assert len(saved["warnings"]) == 1 and saved["warnings"][0].startswith(
+        "fractures.png could not be drawn (ValueError: Image size of 60000000x600 pixels is too large (simulated))")
+    assert captured.err == f"wingcrack: warning: {saved['warnings'][0]}\n"
+    assert "fractures.png" not in captured.out and not (out / "fractures.png").exists()
+    stored = read_result(out)
+    assert len(stored.steps) == (1 if command == "sif" else 2) and stored.fields_of(len(stored.steps) - 1).x.size
+    if command == "run":
+        assert (out / "history.png").is_file()
+
+
+@pytest.mark.parametrize("command", ["sif", "run"])
+def test_ctrl_c_while_the_pictures_are_drawn(tmp_path, monkeypatch, command):
+    """Promise 9 (SIGINT): a Ctrl-C while fractures.png is drawn left
+    "finished" without fractures.png. The pictures come before the final
+    status: the status is then "stopped: interrupted", with every step
+    kept; `run --resume` (or `wingcrack plot`) draws them."""
+    import os
+    import signal
+
+    from wingcrack.io import pictures
+
+    real = pictures.fractures_of_result
+
+    def interrupted(path, result):
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(10 ** 6):   # the handler runs here
+            pass
+        return real(path, result)
+
+    monkeypatch.setattr(pictures, "fractures_of_result", interrupted)
+    out = tmp_path / "out"
+    case = plate(2)
+    with pytest.raises(KeyboardInterrupt):
+        wingcrack.sif(case, out=out) if command == "sif" else wingcrack.run(case, out=out, plots=False)
+    saved = json.loads((out / "summary.json").read_text())
+    assert saved["status"] == "stopped: interrupted" and not (out / "fractures.png").exists()
+    assert len(saved["steps"]) == (1 if command == "sif" else 2)
+    monkeypatch.setattr(pictures, "fractures_of_result", real)
+    if command == "run":
+        r = wingcrack.run(case, out=out, plots=False, resume=True)
+        assert r.status == "finished" and len(r.steps) == 2
+        assert json.loads((out / "summary.json").read_text())["status"] == "finished"
+    else:
+        wingcrack.plot(out, history=False, animation=False)
+    assert (out / "fractures.png").is_file()

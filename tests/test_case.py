@@ -304,7 +304,7 @@ def test_optional_sections_are_read():
         ("stress", {"sxx": -1.0e7, "syy": -2.7e7}),
         ("mesh.adaptive", False),
         ("mesh.sectors", 8),
-        ("propagation", {"steps": 0, "length": 0.01, "alpha": 1, "load": "fixed", "max_load_factor": 5,
+        ("propagation", {"steps": 0, "length": 0.02, "alpha": 1, "load": "fixed", "max_load_factor": 5,
                          "sif": "interaction"}),
         ("fractures.0.faces", "slip"),
         ("fractures.0.slip", 1e-4),
@@ -317,7 +317,7 @@ def test_optional_sections_are_read():
     assert case.body.gravity == (0.0, -9.8)
     assert np.allclose(case.stress.tensor(), [[-1.0e7, 0.0], [0.0, -2.7e7]])
     assert case.mesh == MeshOptions(0.2, 0.05, False, 8)
-    assert case.propagation == Propagation(length=0.01, steps=0, alpha=1.0, load="fixed", max_load_factor=5.0,
+    assert case.propagation == Propagation(length=0.02, steps=0, alpha=1.0, load="fixed", max_load_factor=5.0,
                                            sif="interaction")
     f = case.fractures[0]
     assert (f.faces, f.slip, f.slip_profile, f.gap, f.grow) == ("slip", 1e-4, "elliptic", 1e-5, False)

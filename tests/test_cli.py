@@ -183,12 +183,15 @@ def fake_api(monkeypatch):
     api.calls = []
     api.behaviour = None
 
+    api.result = None
+
     def make(name):
-        def command(case, out, quiet, progress=None, **options):
-            api.calls.append((name, case, out, quiet))
+        def command(case, out, **options):
+            api.calls.append((name, case, out, options.pop("progress", "none given")))
             api.options = options
             if api.behaviour is not None:
                 raise api.behaviour
+            return api.result
 
         return command
 
@@ -204,11 +207,24 @@ def fake_api(monkeypatch):
 def test_sif_and_run_call_the_api(fake_api, tmp_path, command, capsys):
     out = tmp_path / "out"
     assert cli.main([command, str(CASES[0]), "-o", str(out), "--quiet"]) == 0
-    ((name, case, got_out, quiet),) = fake_api.calls
-    assert (name, got_out, quiet) == (command, out, True)
+    ((name, case, got_out, progress),) = fake_api.calls
+    assert (name, got_out) == (command, out)
     assert case.source == CASES[0] and case.fractures
+    # --quiet only hides run's progress bar; sif has none
+    assert progress == (None if command == "run" else "none given")
     assert cli.main([command, str(CASES[0]), "-o", str(out)]) == 0
-    assert fake_api.calls[1][3] is False
+    assert (fake_api.calls[1][3] is not None) if command == "run" else fake_api.calls[1][3] == "none given"
+
+
+def test_warnings_of_a_result_are_printed_once_each(fake_api, tmp_path, capsys):
+    """summary.json's "warnings" (a picture not drawn, SIF methods that
+    disagree) reach stderr, one line each, after the line on stdout."""
+    fake_api.result = types.SimpleNamespace(files={}, summary={"status": "finished",
+                                                                "warnings": ["fractures.png could not be drawn", "b"]})
+    assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "out")]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith("wingcrack: finished; results in ")
+    assert captured.err == "wingcrack: warning: fractures.png could not be drawn\nwingcrack: warning: b\n"
 
 
 def test_force_and_no_plots_reach_the_api(fake_api, tmp_path):

@@ -9,7 +9,7 @@ accurate), theta within 0.5 deg.
 import numpy as np
 
 from builders import brazilian_disc
-from wingcrack.api import solve_initial
+from wingcrack.step import solve_initial
 from wingcrack.case import Case
 
 

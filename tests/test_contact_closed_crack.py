@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from builders import square_plate_with_cracks
-from wingcrack.api import solve_initial
+from wingcrack.step import solve_initial
 from wingcrack.case import Case
 from wingcrack.fem.nodal import nodal_displacements
 

@@ -2,7 +2,7 @@
 import numpy as np
 
 from test_contact_closed_crack import A, SIGMA, plate
-from wingcrack.api import solve_initial
+from wingcrack.step import solve_initial
 
 
 def _case(gap, faces="frictionless"):

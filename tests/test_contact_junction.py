@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from builders import square_plate_with_cracks
-from wingcrack.api import _Timer, all_sifs, build
+from wingcrack.step import Timer, discretise
 from wingcrack.case import Case
 from wingcrack.fem.nodal import nodal_displacements
 
@@ -30,7 +30,8 @@ def test_closed_t_junction_under_hydrostatic_compression(angle):
     d["fractures"][0]["faces"] = "frictionless"
     case = Case.from_dict(d)
     fractures = [case.fractures[0], replace(case.fractures[0], points=wing)]
-    cm, problem, contact = build(case, fractures, _Timer())
+    disc = discretise(case, fractures, Timer())
+    cm, problem, contact = disc.cm, disc.problem, disc.contact
     junction = np.flatnonzero(np.linalg.norm(cm.x - wing[-1], axis=1) < 1e-14)
     assert len(junction) == 3
     contact.solve(1.0)
@@ -47,7 +48,7 @@ def test_closed_t_junction_under_hydrostatic_compression(angle):
     # pressure S within 1e-8 everywhere, the junction included (the exact
     # solution is in the discrete space: uniform stress, zero displacement)
     np.testing.assert_allclose(contact.normal_traction(), -S, rtol=1e-8)
-    for t in all_sifs(case, cm, problem, contact, [f.points for f in fractures]):
+    for t in disc.sifs(case, [f.points for f in fractures]):
         assert abs(t.KI) < 1e-8 * S and abs(t.KII) < 1e-8 * S
 
 
@@ -62,7 +63,8 @@ def test_closed_fractures_met_end_to_end_under_hydrostatic_compression():
     d = square_plate_with_cracks(L, [a], (-S, -S, 0.0), size=1.0, tip_size=0.05)
     d["fractures"][0]["faces"] = "frictionless"
     case = Case.from_dict(d)
-    cm, problem, contact = build(case, [case.fractures[0], replace(case.fractures[0], points=b)], _Timer())
+    disc = discretise(case, [case.fractures[0], replace(case.fractures[0], points=b)], Timer())
+    cm, problem, contact = disc.cm, disc.problem, disc.contact
     meet = np.flatnonzero(np.linalg.norm(cm.x - a[-1], axis=1) < 1e-14)
     assert len(meet) == 2 and len(cm.tips) == 2
     rows_here = np.isin(contact.rows.plus, meet) & np.isin(contact.rows.minus, meet)
@@ -78,16 +80,16 @@ def test_a_join_next_to_a_growing_tip_links_the_two():
     """The loop's rule: a join point within reach of another fracture's tip
     moves onto that tip, and both ends stop ('joined')."""
     from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
-    from wingcrack.propagation.loop import _meet_tip_to_tip
+    from wingcrack.propagation.growth import meet_tip_to_tip
 
     def frac(p):
         return GrowingFracture(np.array(p, float), (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
 
     fset = FractureSet([frac([[0, 0], [1, 0]]), frac([[1.05, 0.5], [1.02, 0.04]])])
-    p = _meet_tip_to_tip(fset, 0, np.array([1.0, 0.03]), reach=0.075)
+    p = meet_tip_to_tip(fset, 0, np.array([1.0, 0.03]), reach=0.075)
     np.testing.assert_array_equal(p, [1.02, 0.04])
     assert fset.fractures[1].ends == ["tip", "joined"]
-    q = _meet_tip_to_tip(fset, 0, np.array([0.5, 0.3]), reach=0.075)   # far from any tip: unchanged
+    q = meet_tip_to_tip(fset, 0, np.array([0.5, 0.3]), reach=0.075)   # far from any tip: unchanged
     np.testing.assert_array_equal(q, [0.5, 0.3])
 
 
@@ -96,9 +98,9 @@ def test_a_kink_folding_back_onto_its_own_crack_is_not_a_join():
     body that nothing holds (soak seed 72 failed 'singular' so): such a join
     point is recognised, and the loop leaves the tip where it is."""
     from wingcrack.propagation.fracture_set import GrowingFracture
-    from wingcrack.propagation.loop import _on_own_fracture
+    from wingcrack.propagation.growth import on_own_fracture
 
     f = GrowingFracture(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.1], [0.9, 0.1]]), (0, 1), ["tip", "tip"],
                         "open", 0.0, 0.0, "uniform", True)
-    assert _on_own_fracture(f, 1, np.array([0.95, 0.0]))        # back on its own first segment
-    assert not _on_own_fracture(f, 1, np.array([0.85, 0.3]))    # free space
+    assert on_own_fracture(f, 1, np.array([0.95, 0.0]))        # back on its own first segment
+    assert not on_own_fracture(f, 1, np.array([0.85, 0.3]))    # free space

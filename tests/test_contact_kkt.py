@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wingcrack.api import solve_initial
+from wingcrack.step import solve_initial
 from wingcrack.case import Case
 from wingcrack.contact.active_set import solve_active_set
 

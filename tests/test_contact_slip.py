@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from builders import square_plate_with_cracks
-from wingcrack.api import solve_initial
+from wingcrack.step import solve_initial
 from wingcrack.case import Case
 
 A, L, E, NU = 1.0, 100.0, 10e9, 0.25

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from builders import brazilian_disc
-from wingcrack.api import build, _Timer
+from wingcrack.step import Timer, discretise
 from wingcrack.case import Case
 from wingcrack.propagation.critical_load import critical_load_factor
 from wingcrack.tip_sifs import correlation_sifs
@@ -33,7 +33,8 @@ def test_limit_and_start():
 @pytest.fixture(scope="module")
 def disc():
     case = Case.from_dict(brazilian_disc(45, faces="open"))
-    cm, problem, contact = build(case, case.fractures, _Timer())
+    d = discretise(case, case.fractures, Timer())
+    cm, problem, contact = d.cm, d.problem, d.contact
     m = case.material
 
     def keq(lam):

@@ -1,5 +1,7 @@
 """Issue 5: the propagation loop (paper Fig. 8)."""
 import json
+from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -72,9 +74,9 @@ def test_a_wing_joins_another_fracture_as_a_t(tmp_path):
 def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):
     """A failure at step 2 (here: meshing) ends the run with 'failed: ...'
     and summary.json still holds steps 0 and 1."""
-    import wingcrack.api as api
+    import wingcrack.step as step
 
-    real = api.build
+    real = step.discretise
     calls = {"n": 0}
 
     def flaky(*a, **k):
@@ -83,7 +85,7 @@ def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):
             raise RuntimeError("gmsh could not mesh (simulated)")
         return real(*a, **k)
 
-    monkeypatch.setattr(api, "build", flaky)
+    monkeypatch.setattr(step, "discretise", flaky)
     with pytest.raises(ComputationError, match="failed: step 2"):
         run(tension_plate(), out=tmp_path)
     saved = json.loads((tmp_path / "summary.json").read_text())
@@ -105,3 +107,55 @@ def test_fixed_load_below_kic_stops_with_a_complete_result(tmp_path):
     assert all(t["K_eq"] < 1e6 for t in step["tips"]) and "total" in step["seconds"] and step["solves"] == 1
     assert (tmp_path / "step_0000.vtu").exists() and (tmp_path / "faces_0000.vtu").exists()
     assert (tmp_path / "fractures.png").exists()
+
+
+def test_a_run_where_no_tip_can_move_stops_at_once(tmp_path):
+    """Promise 4: an inclined crack whose tips kink, with Lmax under L_min
+    (which `check` refuses; a case built past it): no tip can advance, so
+    the run records its one solved step and stops, saying why, instead of
+    repeating that step to the end ("finished" after 3 identical steps)."""
+    case = tension_plate(steps=3, cracks=[[[-A, -A], [A, A]]])
+    case = replace(case, propagation=replace(case.propagation, length=0.3 * case.mesh.tip_size))
+    r = run(case, out=tmp_path)
+    assert r.status == "stopped: no tip can grow (its advance would be under L_min = 0.4 mesh.tip_size)"
+    assert len(r.steps) == 1 and all(t["advance"] == 0.0 and t["state"] == "arrested" for t in r.steps[0]["tips"])
+    assert max(t["K_eq"] for t in r.steps[0]["tips"]) >= 1e6 * (1 - 1e-3)    # at KIc: the law, not the load
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    assert saved["status"] == r.status and len(saved["steps"]) == 1
+    assert (tmp_path / "step_0000.vtu").exists() and not (tmp_path / "step_0001.vtu").exists()
+
+
+def test_the_open_disc_with_half_steps_grows_every_step(tmp_path):
+    """Promise 4 (c): the 45-degree open disc with length = 0.25 mm and
+    tip_size 0.5 mm grew one step and then sat at K_eq = 1.11 KIc,
+    "arrested", advance 0 (see test_growth_module.py for why). Every tip
+    the growth law advances (K_eq at KIc, its share of Lmax at least L_min)
+    now advances, by that share, every step."""
+    from wingcrack.propagation.growth_law import advances
+
+    case = Case.from_toml(Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45_open.toml")
+    case = replace(case, propagation=replace(case.propagation, length=0.00025, steps=4))
+    r = run(case, out=tmp_path, plots=False)
+    assert r.status == "finished" and len(r.steps) == 4
+    m = case.material
+    for s in r.steps:
+        keq = np.array([t["K_eq"] for t in s["tips"]])
+        G = np.where(keq >= m.KIc * (1 - 1e-3), keq ** 2 / m.E, 0.0)
+        L = advances(G, 0.00025, case.propagation.alpha, 0.4 * case.mesh.tip_size,
+                     np.array([t["theta"] for t in s["tips"]]))
+        assert np.all(L > 0)
+        # the advance is the law's L (rounded to its 1e-8 grid of Lmax)
+        assert np.allclose([t["advance"] for t in s["tips"]], L, rtol=0, atol=1e-7 * 0.00025)
+        assert all(t["state"] == "growing" for t in s["tips"])
+
+
+def test_a_step_that_cannot_be_recorded_fails_with_a_summary(tmp_path):
+    """A step whose record holds an inf (here: Lmax = 1e300 m, which `check`
+    refuses, set past it) fails with "failed: step 0: ..." and a summary
+    without that step, not "unexpected" with no summary at all."""
+    case = tension_plate(steps=2)
+    case = replace(case, propagation=replace(case.propagation, length=1e300))
+    with pytest.raises(ComputationError, match="failed: step 0: "):
+        run(case, out=tmp_path)
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    assert saved["status"].startswith("failed: step 0: ") and saved["steps"] == []

@@ -11,7 +11,7 @@ triangles whose quality is known by hand.
 import numpy as np
 import pytest
 
-import wingcrack.api as api
+import wingcrack.step as step
 from builders import square_plate_with_cracks
 from meshing.crack_mesh import triangle_quality
 from wingcrack.api import run
@@ -57,14 +57,14 @@ def test_quality_of_known_triangles():
 
 def capture_meshes(monkeypatch):
     meshes = []
-    real = api.build
+    real = step.discretise
 
-    def build(*a, **k):
+    def discretise(*a, **k):
         out = real(*a, **k)
-        meshes.append(out[0])
+        meshes.append(out.cm)
         return out
 
-    monkeypatch.setattr(api, "build", build)
+    monkeypatch.setattr(step, "discretise", discretise)
     return meshes
 
 

@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[1]
 FEM_ONLY = ("dolfinx", "ufl", "ffcx", "basix", "petsc4py")
 # issue 12: loop.py pre-imports DOLFINx for gc.freeze; the step pipeline calls
 # wingcrack.fem.preload() instead. Drop this entry when it does.
-NOT_YET = {"wingcrack/propagation/loop.py"}
+NOT_YET: set = set()
 
 
 def imported_modules(path: Path) -> set[str]:

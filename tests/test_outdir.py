@@ -70,11 +70,13 @@ def test_force_replaces_the_previous_result_and_nothing_else(tmp_path, capsys):
     before = plant(out)
     assert cli.main(["sif", str(CASE), "-o", str(out), "--force", "--quiet"]) == 0
     after = {p.name for p in out.iterdir()}
-    assert after == {"summary.json", "fields.vtu", "faces.vtu", "fractures.png", "notes.txt", "step_final.vtu"}
+    # the layout of a one-step run (the old fields.vtu and faces.vtu are gone with the previous result)
+    assert after == {"summary.json", "step_0000.vtu", "faces_0000.vtu", "fields.pvd", "faces.pvd", "fractures.png",
+                     "notes.txt", "step_final.vtu"}
     assert (out / "notes.txt").read_text() == before["notes.txt"]
     assert (out / "summary.json").read_text() != before["summary.json"]
     assert capsys.readouterr().out.startswith(f"wingcrack: finished; results in {out}/: ")
-    # a `sif` result plots too: one step, one frame (from fields.vtu)
+    # a `sif` result plots as any run: one step, one frame (from step_0000.vtu)
     assert cli.main(["plot", str(out)]) == 0
     animation = next(out.glob("growth.*"))
     if animation.suffix == ".gif":

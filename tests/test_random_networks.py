@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from networks import random_case, to_toml
-from wingcrack.propagation.loop import crossing_pair
+from wingcrack.propagation.growth import crossing_pair
 
 SEEDS = range(int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")),
                int(os.environ.get("WINGCRACK_SOAK_FIRST", "0")) + int(os.environ.get("WINGCRACK_SOAK_SEEDS", "20")))

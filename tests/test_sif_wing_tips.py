@@ -62,7 +62,7 @@ def test_interaction_integral_near_the_tip_equals_the_whole_mesh_one(monkeypatch
     every other cell). Reference: the same form on the whole mesh; the left-out
     cells add exact zeros, so the two agree to round-off (measured: bit for
     bit on the five-fracture case)."""
-    from wingcrack.api import solve_initial
+    from wingcrack.step import solve_initial
     from wingcrack.fem.interaction_integral import InteractionIntegral
 
     case = Case.from_toml(CASES / "brazilian_disc_45_open.toml")

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from wingcrack.api import _Timer, build
+from wingcrack.step import Timer, discretise
 from wingcrack.case import Case
 from wingcrack.errors import ComputationError
 
@@ -42,9 +42,9 @@ def plate(faces, pins):
 
 def solve_cut(case):
     cut = replace(case.fractures[0], points=np.array([[0.0, 0.5], [1.0, 0.5]]))  # side to side
-    cm, problem, contact = build(case, [cut], _Timer())
-    contact.solve(1.0)
-    return problem.u.x.array
+    d = discretise(case, [cut], Timer())
+    d.solve(1.0)
+    return d.problem.u.x.array
 
 
 @pytest.mark.parametrize("faces", ["open", "frictionless"])

@@ -5,7 +5,7 @@ its base, sides free. Exact: sigma_yy = rho g (y - H), sigma_xx = sigma_xy = 0
 stress matches to 1e-8 of rho g H (round-off of the solve)."""
 import numpy as np
 
-from wingcrack.api import solve_initial
+from wingcrack.step import solve_initial
 from wingcrack.case import Case
 from wingcrack.fem.cell_stress import _POINTS, cell_stress
 

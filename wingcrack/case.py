@@ -39,6 +39,7 @@ from meshing import admissibility  # the mesher's own rules: what `check` accept
 from meshing.domain import Domain  # pure numpy: `check` needs neither gmsh nor DOLFINx
 from wingcrack import _kernels  # geometry predicates (C++)
 from wingcrack.errors import CaseError
+from wingcrack.propagation.growth_law import length_problem   # the Lmax rule lives with the growth law
 
 PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
@@ -362,7 +363,13 @@ class Propagation:
     """Growth control (only `run` reads it)."""
 
     length: float = key(Ref("mesh.tip_size"), unit="m", range=POSITIVE,
-                        doc="Lmax: the longest advance of any tip in one step.",
+                        rule="at least L_min = 0.4 `mesh.tip_size` (propagation/growth_law.length_problem)",
+                        doc="Lmax: the longest advance of any tip in one step. Under L_min no kinked tip could "
+                            "ever grow (a kinked tip never advances less than L_min), so `check` refuses it, naming "
+                            "the smallest length that works. Every length from L_min up works: a wing's rosette is "
+                            "then min(`tip_size`, 0.75 L) >= 0.3 `tip_size`, and a length under 0.75 `tip_size`, "
+                            "whose next step lands within the join distance (1.5 `tip_size`) of the wing's own "
+                            "kink, goes straight on there when the mesher has room for the rosette.",
                         limit=Limit(hi=1.0, of="L", why="no step longer than the domain"))
     steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. With `0`, `run` does nothing "
                      "(use `sif`).")
@@ -378,8 +385,11 @@ class Propagation:
                                      "factor limit\") if the critical factor would exceed this.",
                                  limit=Limit(hi=1e9, why="a larger factor means loads in the wrong unit; the search "
                                                          "doubles the factor, 30 solves up to 1e9"))
-    sif: str = key("correlation", choices=SIFS, doc="Which SIFs drive growth: displacement correlation (the "
-                   "paper's) or the interaction integral.")
+    sif: str = key("correlation", choices=SIFS, added=True,
+                   doc="Which SIFs drive growth (the critical load, the kink angle theta, K_eq and G): displacement "
+                       "correlation (the paper's) or the interaction integral (at a tip where it has no room, "
+                       "correlation). Both are always reported. Use `\"interaction\"` for nearly incompressible "
+                       "plane strain (nu above about 0.495), where correlation locks; see the README.")
 
 
 # The layouts that are not a dataclass's: the top level, [domain], [[bc]].
@@ -827,6 +837,9 @@ def _parse_case(d: dict, source: Path | None) -> Case:
                                         [k for k, _ in at], mesh.tip_size))
     known["mesh.tip_size"] = mesh.tip_size  # a Ref: the default of propagation.length
     propagation = Propagation(**top.value(section["propagation"]).read(DESCRIPTION["propagation"], known))
+    problem = length_problem(propagation.length, mesh.tip_size)
+    if problem is not None:
+        raise CaseError("propagation.length", problem)
 
     _check_statically_determined(bcs, domain)
 

@@ -150,12 +150,14 @@ def _command(args) -> int:
     with _locked(args.out, create=not getattr(args, "resume", False)):
         if args.command == "run":
             with _progress(case, args.quiet) as progress:
-                result = api.run(case, args.out, args.quiet, progress=progress, plots=args.plots, force=args.force,
+                result = api.run(case, args.out, progress=progress, plots=args.plots, force=args.force,
                                  resume=args.resume)
         else:
-            result = api.sif(case, args.out, args.quiet, force=args.force)
+            result = api.sif(case, args.out, force=args.force)
     if result is not None and world_rank() == 0:  # where the results are, even with --quiet
         print(f"{PROG}: {result.summary['status']}; results in {args.out}/: " + _names(result.files))
+        for warning in result.summary.get("warnings", []):   # each once: summary.json keeps them
+            print(f"{PROG}: warning: {warning}", file=sys.stderr)
     return EXIT_OK
 
 

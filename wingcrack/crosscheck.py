@@ -251,12 +251,15 @@ def correlation_sifs(cm, u: np.ndarray, E: float, nu: float, plane: str):
 def crosscheck(case) -> CrossCheck:
     """Solve `case` with open faces by wingcrack and by scikit-fem on the
     same mesh; compare displacements and displacement-correlation SIFs."""
-    from .api import _Timer, solve_initial
     from .fem.nodal import nodal_displacements
+    from .step import FAILURES, Timer, failure, solve_initial
 
     case, opened = open_faces(case)
-    timer = _Timer()
-    sol = solve_initial(case, timer)
+    timer = Timer()
+    try:
+        sol = solve_initial(case, timer)
+    except FAILURES as err:   # as `sif` fails: exit 1 with the reason
+        raise ComputationError(failure(0, err)) from None
     cm, problem = sol.cm, sol.problem
     u_wc = nodal_displacements(problem.fm, problem.u, np.arange(len(cm.x)))
     timer.lap("nodal")

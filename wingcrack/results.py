@@ -1,8 +1,123 @@
-"""What the result objects of wingcrack.sif and wingcrack.run offer beyond
-their fields: tables of the tips, and the last solve's DOLFINx objects."""
+"""The records of a result, typed: a tip, the contact of a step, a step, and
+the summary of a whole result (`sif` or `run`), each with .to_dict() giving
+exactly its part of summary.json (see docs/case-format.md); and what the
+result objects of wingcrack.sif and wingcrack.run offer beyond their fields:
+tables of the tips, and the last solve's DOLFINx objects."""
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 TIP_COLUMNS = ("fracture", "end", "x", "y", "KI", "KII", "KI_M", "KII_M", "G", "theta", "K_eq")
+#: the mesh statistics a step record keeps (meshing.CrackMesh.stats)
+MESH_STATS = ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried", "symmetric")
+
+
+@dataclass
+class TipRecord:
+    """One tip of a step, where the step's SIFs were computed (m, Pa m^0.5,
+    J/m^2, rad). KI, KII: displacement correlation; KI_M, KII_M: the
+    interaction integral (None where it had no room); G, theta, K_eq: of the
+    SIFs that drive growth (propagation.sif). state: "growing", "arrested",
+    "joined" or "boundary"; advance: how far the step moved the tip (m)."""
+    fracture: int
+    end: int
+    x: float
+    y: float
+    KI: float
+    KII: float
+    KI_M: float | None
+    KII_M: float | None
+    G: float
+    theta: float
+    K_eq: float
+    advance: float = 0.0
+    state: str = "arrested"
+
+    @classmethod
+    def of(cls, sif, state: str = "arrested", advance: float = 0.0) -> "TipRecord":
+        """The record of a tip_sifs.TipSIF."""
+        return cls(sif.fracture, sif.end, sif.x, sif.y, sif.KI, sif.KII, sif.KI_M, sif.KII_M, sif.G, sif.theta,
+                   sif.K_eq, advance, state)
+
+    def to_dict(self) -> dict:
+        return dict(fracture=self.fracture, end=self.end, x=self.x, y=self.y, KI=self.KI, KII=self.KII,
+                    KI_M=self.KI_M, KII_M=self.KII_M, G=self.G, theta=self.theta, K_eq=self.K_eq,
+                    advance=self.advance, state=self.state)
+
+
+@dataclass
+class ContactRecord:
+    """Contact of a step: face-node pairs, constraint rows, closed normal
+    rows, active-set iterations, and the relative KKT residuals (only when
+    there are rows)."""
+    pairs: int
+    rows: int
+    closed: int = 0
+    iterations: int = 0
+    kkt: dict | None = None
+
+    def to_dict(self) -> dict:
+        out = {"pairs": self.pairs, "rows": self.rows, "closed": self.closed, "iterations": self.iterations}
+        if self.kkt is not None:
+            out["kkt"] = self.kkt
+        return out
+
+
+@dataclass
+class StepRecord:
+    """One solved step: its number, load factor, DOFs, cells, tips, contact,
+    seconds per phase, mesh statistics, the solves the critical load took,
+    and warnings (strings: the tips where the two SIF methods disagree)."""
+    step: int
+    load_factor: float
+    dofs: int
+    cells: int
+    tips: list            # TipRecord
+    contact: ContactRecord
+    seconds: dict
+    mesh: dict
+    solves: int = 1
+    warnings: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        out = {"step": self.step, "load_factor": self.load_factor, "dofs": self.dofs, "cells": self.cells,
+               "tips": [t.to_dict() for t in self.tips], "contact": self.contact.to_dict(),
+               "seconds": dict(self.seconds), "mesh": dict(self.mesh), "solves": self.solves}
+        if self.warnings:
+            out["warnings"] = list(self.warnings)
+        return out
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "StepRecord":
+        """The record of a step as summary.json (or a checkpoint) holds it."""
+        c = d["contact"]
+        contact = ContactRecord(c["pairs"], c.get("rows", 0), c.get("closed", 0), c.get("iterations", 0),
+                                c.get("kkt"))
+        tips = [TipRecord(**{k: t[k] for k in TIP_COLUMNS}, advance=t.get("advance", 0.0),
+                          state=t.get("state", "arrested")) for t in d["tips"]]
+        return cls(d["step"], d["load_factor"], d["dofs"], d["cells"], tips, contact, dict(d["seconds"]),
+                   dict(d.get("mesh", {})), d.get("solves", 1), list(d.get("warnings", [])))
+
+
+@dataclass
+class Summary:
+    """summary.json of a result: title, version, status, the finished steps
+    (StepRecord), the fractures ([{points, origin, fracture}]) and warnings,
+    strings about the whole result (a picture that failed, SIF methods that
+    disagree) that the command line prints once each."""
+    title: str
+    version: str
+    status: str
+    steps: list           # StepRecord
+    fractures: list
+    warnings: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        out = {"title": self.title, "version": self.version, "status": self.status,
+               "steps": [s.to_dict() for s in self.steps], "fractures": self.fractures}
+        if self.warnings:
+            out["warnings"] = list(self.warnings)
+        return out
 
 
 def tip_rows(steps) -> list[dict]:

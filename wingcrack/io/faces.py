@@ -7,51 +7,29 @@ from pathlib import Path
 import numpy as np
 
 
-def face_state(sol) -> dict:
-    """Per pair: position, opening w = [u].n, slip s = [u].t (m), normal
-    traction sigma_nn (Pa, <= 0 in contact) and closed (bool)."""
-    cm = sol.cm
+def face_state(cm, jump, traction, closed) -> dict:
+    """Per pair of `cm` (a CrackMesh): position, opening w = [u].n, slip
+    s = [u].t (m), normal traction sigma_nn (Pa, <= 0 in contact) and
+    closed (bool), from the pairs' displacement jumps [u] (p, 2), normal
+    tractions (p,) and closed flags (p,) (step.Discretisation.face_values)."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     t = np.c_[n[:, 1], -n[:, 0]]
-    up = sol.problem.nodal_displacements(pairs[:, 0])
-    um = sol.problem.nodal_displacements(pairs[:, 1])
-    jump = up - um
-    traction = np.zeros(len(pairs))
-    closed = np.zeros(len(pairs), bool)
-    c = sol.contact
-    if c is not None and c.result is not None:
-        rows = c.rows
-        normal = rows.normal
-        traction[rows.pair[normal]] = c.normal_traction()[normal]
-        closed[rows.pair[normal]] = c.result.active[normal]
+    jump = np.asarray(jump, float).reshape(-1, 2)
     return {"position": np.asarray(cm.x)[pairs[:, 0]], "opening": np.sum(jump * n, axis=1),
-            "slip": np.sum(jump * t, axis=1), "normal_traction": traction, "closed": closed,
-            "plus": pairs[:, 0]}
+            "slip": np.sum(jump * t, axis=1), "normal_traction": np.asarray(traction, float),
+            "closed": np.asarray(closed, bool), "plus": pairs[:, 0]}
 
 
-def closed_segments(sol) -> list:
-    """Crack edges (+ face) whose two vertices are closed pairs, as segments."""
-    st = face_state(sol)
-    closed_nodes = set(st["plus"][st["closed"]].tolist())
-    x = np.asarray(sol.cm.x)
-    return [(x[a], x[b]) for a, b, _ in np.asarray(sol.cm.crack_edges)
-            if a in closed_nodes and b in closed_nodes]
-
-
-def write_faces(path: Path, sol, field_data: dict | None = None) -> Path:
-    """line3 cells of the + faces; point data at the + face nodes (zero at
-    tips, which are not pairs); `field_data` ({name: number}) as in
-    write_fields. Collective (the face displacements are gathered); rank 0
-    writes."""
+def write_faces(path: Path, cm, jump, traction, closed, field_data: dict | None = None) -> Path:
+    """line3 cells of the + faces of `cm`; point data at the + face nodes
+    (zero at tips, which are not pairs) from the pair values of face_state;
+    `field_data` ({name: number}) as in write_fields."""
     import meshio
 
     from .pvd import add_field_data
 
-    cm = sol.cm
-    st = face_state(sol)
-    if sol.problem.fm.mesh.comm.rank != 0:
-        return Path(path)
+    st = face_state(cm, jump, traction, closed)
     edges = np.asarray(cm.crack_edges, dtype=np.int64)
     nodes, local = np.unique(edges, return_inverse=True)
     index = {int(v): i for i, v in enumerate(nodes)}

@@ -4,8 +4,9 @@ ready for a new result, and reading a result back.
 `wingcrack run` writes summary.json, step_XXXX.vtu and faces_XXXX.vtu (one
 of each per step), fields.pvd and faces.pvd (their ParaView indices),
 fractures.png and, unless --no-plots, history.png and growth.gif
-(growth.mp4 when ffmpeg is on PATH). `wingcrack sif` writes summary.json,
-fields.vtu, faces.vtu and fractures.png.
+(growth.mp4 when ffmpeg is on PATH). `wingcrack sif` writes the same layout
+for its one step (step 0) and fractures.png. (fields.vtu and faces.vtu are
+what `sif` wrote before: still a previous result, that --force deletes.)
 
 A new result never replaces a previous one unless forced. Without force, a
 folder holding any of these files is refused; with force, exactly these
@@ -40,10 +41,10 @@ from ..errors import FolderError
 
 SUMMARY = "summary.json"
 FIELDS_PVD, FACES_PVD = "fields.pvd", "faces.pvd"
-SIF_FIELDS, SIF_FACES = "fields.vtu", "faces.vtu"
+OLD_SIF_FILES = ("fields.vtu", "faces.vtu")   # a `sif` result of earlier versions
 PICTURES = ("fractures.png", "history.png", "growth.gif", "growth.mp4")
 CHECKPOINT = "checkpoint.npz"   # propagation/checkpoint.py: what `run --resume` needs
-_NAMES = frozenset((SUMMARY, FIELDS_PVD, FACES_PVD, SIF_FIELDS, SIF_FACES, CHECKPOINT, *PICTURES))
+_NAMES = frozenset((SUMMARY, FIELDS_PVD, FACES_PVD, *OLD_SIF_FILES, CHECKPOINT, *PICTURES))
 _STEP_FILE = re.compile(r"(step|faces)_\d{4,}\.vtu")
 
 
@@ -249,31 +250,32 @@ def _cells(mesh, kind, path) -> np.ndarray:
     return np.vstack(blocks)
 
 
-def read_result(folder) -> StoredResult:
-    """Read summary.json of a run (finished, stopped or failed) or of a
-    solve, and find its step files. Raises FolderError when `folder` is
-    missing, is not a wingcrack result, or lacks a step file that
-    summary.json lists."""
+def read_result(folder, summary: dict | None = None) -> StoredResult:
+    """Read summary.json of a result (a run, finished, stopped or failed, or
+    a `sif`: one step), and find its step files. With `summary`, take that
+    one instead of the folder's summary.json (a run that has written its
+    steps but not yet its final status). Raises FolderError when `folder` is
+    missing, is not a wingcrack result, or lacks a step file that the
+    summary lists."""
     folder = Path(folder)
     if not folder.exists():
         raise FolderError(folder, "no such folder")
     if not folder.is_dir():
         raise FolderError(folder, "is a file, not a result folder")
     path = folder / SUMMARY
-    if not path.is_file():
-        raise FolderError(folder, f"not a wingcrack result (no {SUMMARY})")
-    try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as err:
-        raise FolderError(path, f"not a wingcrack summary (not readable as JSON: {err})") from None
+    if summary is None:
+        if not path.is_file():
+            raise FolderError(folder, f"not a wingcrack result (no {SUMMARY})")
+        try:
+            summary = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, ValueError) as err:
+            raise FolderError(path, f"not a wingcrack summary (not readable as JSON: {err})") from None
     problem = _summary_problem(summary)
     if problem:
         raise FolderError(path, f"not a wingcrack summary ({problem})")
     steps = summary["steps"]
     fields = [folder / fields_name(s["step"]) for s in steps]
     faces = [folder / faces_name(s["step"]) for s in steps]
-    if len(steps) == 1 and not fields[0].exists() and (folder / SIF_FIELDS).exists():
-        fields, faces = [folder / SIF_FIELDS], [folder / SIF_FACES]   # a `sif` result
     missing = [p for p in fields + faces if not p.is_file()]
     if missing:
         raise FolderError(missing[0], f"missing ({SUMMARY} lists {len(steps)} steps)")

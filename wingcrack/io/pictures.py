@@ -1,7 +1,7 @@
-"""fractures.png: the domain, every fracture, the tips and their rosettes;
-for a run, the wings coloured by the step that grew them and the faces in
-contact at the last step. `sif` draws it from the solution in memory, a run
-and `wingcrack plot` from the result folder (fractures_of_result)."""
+"""fractures.png: the outer boundary, every fracture, the tips and their
+rosettes; for a run, the wings coloured by the step that grew them and the
+faces in contact at the last step. Drawn from a result folder
+(fractures_of_result), for `sif`, `run` and `wingcrack plot` alike."""
 from __future__ import annotations
 
 import textwrap
@@ -10,24 +10,11 @@ from pathlib import Path
 import numpy as np
 
 
-def _outline(domain) -> np.ndarray:
-    if domain.shape == "disc":
-        t = np.linspace(0.0, 2.0 * np.pi, 361)
-        c = np.asarray(domain.center, float)
-        return np.c_[c[0] + domain.radius * np.cos(t), c[1] + domain.radius * np.sin(t)]
-    if domain.shape == "rectangle":
-        (x0, y0), (w, h) = domain.corner, domain.size
-        return np.array([[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h], [x0, y0]], float)
-    pts = np.asarray(domain.points, float)
-    return np.vstack([pts, pts[:1]])
+def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, closed_segments=(), title: str = "",
+                   mesh=None, growth=(), boundary=None) -> Path:
+    """Draw the outer boundary and the fractures.
 
-
-def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
-                   closed_segments=(), title: str = "", mesh=None, growth=(), boundary=None) -> Path:
-    """Draw the domain and fractures.
-
-    domain: the case's Domain, or None and `boundary`, (k, 2, 2) segments of
-    the outer boundary; fractures: list of dicts {"points": (n,2), "origin":
+    boundary: (k, 2, 2) segments of the outer boundary; fractures: list of dicts {"points": (n,2), "origin":
     "pre-existing"|"wing"}; tips: list of dicts with "x", "y";
     closed_segments: polylines ((x0,y0),(x1,y1),...) drawn over the
     fractures where the faces are in contact; mesh: anything with x (n, 2)
@@ -49,10 +36,7 @@ def plot_fractures(path: Path, domain, fractures, tips=(), rosette: float = 0.0,
     n = int(steps.max()) + 1 if len(growth) else 1
     colours = plt.get_cmap("viridis", n)   # one colour a step
     for ax in (ax_full, ax_zoom):
-        if domain is not None:
-            o = _outline(domain)
-            ax.plot(o[:, 0], o[:, 1], color="0.35", lw=1.2)
-        elif boundary is not None and len(boundary):
+        if boundary is not None and len(boundary):
             ax.add_collection(LineCollection(boundary, colors="0.35", linewidths=1.2))
         for f in fractures:
             p = np.asarray(f["points"], float)
@@ -113,7 +97,7 @@ def fractures_of_result(path: Path, result) -> Path:
     title = f"{s['title']}: {len(steps)} step{'s' if len(steps) != 1 else ''}"
     if s["status"] != "finished":
         title += "\n" + textwrap.shorten(s["status"], 70)
-    return plot_fractures(path, None, s["fractures"], tips=tips, rosette=_rosette(mesh, tips),
+    return plot_fractures(path, s["fractures"], tips=tips, rosette=_rosette(mesh, tips),
                           closed_segments=closed, title=title, mesh=mesh, growth=growth_segments(s),
                           boundary=boundary)
 

@@ -14,11 +14,22 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+
 
 @dataclass
 class CriticalLoad:
     load_factor: float | None   # None: no tip reaches KIc below the limit
     solves: int
+
+
+def scales_with_load(case, fset) -> bool:
+    """Does the whole response of the fracture set `fset` scale with the
+    load factor (a scaled load, no in-situ stress, no body force, no gap)?"""
+    m = case.material
+    body = m.density * np.linalg.norm(case.body.gravity)
+    return (case.propagation.load == "scale" and not np.any(case.stress.tensor())
+            and body == 0 and all(f.gap == 0 for f in fset.fractures))
 
 
 def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,

@@ -89,5 +89,7 @@ class FractureSet:
         return FractureSet([replace(f, points=f.points.copy(), ends=list(f.ends)) for f in self.fractures])
 
     def summary(self) -> list:
-        return [{"points": p, "origin": o, "fracture": i}
+        """summary.json's fractures: [{points, origin, fracture}], each case
+        fracture's pieces (wing at end 0, pre-existing part, wing at end 1)."""
+        return [{"points": np.asarray(p, float).tolist(), "origin": o, "fracture": i}
                 for i, f in enumerate(self.fractures) for p, o in f.pieces()]

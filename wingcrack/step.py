@@ -1,0 +1,343 @@
+"""One step of wingcrack, the same for `sif` (step 0, at load factor 1) and
+for every step of `run` (the paper's Fig. 8 loop, propagation/loop.py):
+
+    fractures (polylines)
+      -> discretise(): crack mesh (meshing worker, under a time limit)
+         -> DOLFINx mesh -> loads -> free pieces? -> assembly
+         -> factorisation (+ Schur complement on the contact pair dofs)
+         -> contact set-up                                  = Discretisation
+      -> Discretisation.solve(load factor): elasticity + active set
+      -> Discretisation.sifs(): both methods at every tip   = [TipSIF]
+      -> finish(): the step's files (step_XXXX.vtu, faces_XXXX.vtu, the
+         .pvd indices) and its record                       = results.StepRecord
+
+A computation that fails raises one of FAILURES; failure() turns it into the
+status "failed: step <k>: <reason>", the same for both commands.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from . import _kernels as K
+from .errors import ComputationError
+from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
+
+#: seconds gmsh may take for one mesh; then it is retried once, coarser, and
+#: then the step fails (meshing/timeout.py)
+MESH_TIMEOUT = 120.0
+#: the two SIF methods disagree at a tip when KI or KII differ by more than
+#: this fraction of the interaction integral's K = sqrt(KI_M^2 + KII_M^2)
+SIF_AGREEMENT = 0.01
+#: a tip "reached" KIc in a static solve (sif): K_eq >= KIc (1 - this)
+STATIC_RTOL = 1e-9
+#: what ends a computation with "failed: <reason>" (every finished step kept)
+FAILURES = (ComputationError, RuntimeError, ValueError, np.linalg.LinAlgError)
+
+
+class Timer:
+    """Wall-clock seconds per phase: lap(name) adds the time since the last lap."""
+
+    def __init__(self):
+        self.seconds = {}
+        self._t = time.perf_counter()
+
+    def lap(self, name: str) -> None:
+        t = time.perf_counter()
+        self.seconds[name] = self.seconds.get(name, 0.0) + (t - self._t)
+        self._t = t
+
+
+@dataclass
+class Discretisation:
+    """A geometry made ready to solve: cm, the crack mesh (meshing.CrackMesh:
+    nodes, P2 cells, face pairs, tips with their rosette nodes); problem, the
+    elastic problem (fem.elasticity.ElasticProblem, assembled and
+    factorised); contact, its contact problem (fem.contact_problem)."""
+    cm: object
+    problem: object
+    contact: object
+
+    @property
+    def dofs(self) -> int:
+        return int(self.problem.fm.num_dofs)
+
+    @property
+    def cells(self) -> int:
+        return int(self.problem.fm.num_cells)
+
+    def solve(self, load_factor: float):
+        """Displacement at `load_factor`, with contact (the active set) on the
+        faces that have it; the contact result (None without rows)."""
+        return self.contact.solve(load_factor)
+
+    def correlation_sifs(self, case):
+        """(KI, KII) of every tip by displacement correlation: four nodal
+        displacements a tip, cheap enough for the critical-load search."""
+        from .tip_sifs import correlation_sifs
+
+        m = case.material
+        return correlation_sifs(self.problem, self.cm, m.E, m.nu, m.plane)
+
+    def sifs(self, case, polylines) -> list:
+        """TipSIF of every tip of the mesh for the current solution: both
+        methods, and theta, K_eq, G of the method that drives growth
+        (case.propagation.sif). polylines: the fractures' (n, 2) points."""
+        from .tip_sifs import tip_sifs
+
+        m = case.material
+        forces = self.contact.nodal_forces(len(self.cm.x)) if self.contact.result is not None else None
+        tips = tip_sifs(self.problem, self.cm, [np.asarray(p, float) for p in polylines], case.domain, m.E, m.nu,
+                        m.plane, case.stress.tensor(), face_forces=forces)
+        for t in tips:
+            require_finite(f"a SIF at fracture {t.fracture} end {t.end}",
+                           [v for v in (t.KI, t.KII, t.KI_M, t.KII_M, t.G, t.K_eq) if v is not None])
+        return driving(tips, case)
+
+    def driving_sifs(self, case, polylines):
+        """(KI, KII) of every tip by the method that drives growth: displacement
+        correlation alone (cheap), or the interaction integral (where it has
+        no room, correlation)."""
+        if sif_method(case) == "correlation":
+            return self.correlation_sifs(case)
+        tips = self.sifs(case, polylines)
+        return (np.array([t.KI if t.KI_M is None else t.KI_M for t in tips], float),
+                np.array([t.KII if t.KII_M is None else t.KII_M for t in tips], float))
+
+    def face_values(self):
+        """(jump (p, 2), normal traction (p,), closed (p,)) of every face-node
+        pair: [u] = u(+) - u(-) (m), sigma_nn (Pa, <= 0 in contact; 0 without
+        a normal row) and whether it is in contact. Collective (the face
+        displacements are gathered)."""
+        from .fem.nodal import nodal_displacements
+
+        pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
+        fm, u = self.problem.fm, self.problem.u
+        jump = nodal_displacements(fm, u, pairs[:, 0]) - nodal_displacements(fm, u, pairs[:, 1])
+        traction = np.zeros(len(pairs))
+        closed = np.zeros(len(pairs), bool)
+        c = self.contact
+        if c.result is not None:
+            normal = c.rows.normal
+            traction[c.rows.pair[normal]] = c.normal_traction()[normal]
+            closed[c.rows.pair[normal]] = c.result.active[normal]
+        return jump, traction, closed
+
+    def contact_record(self) -> ContactRecord:
+        c = self.contact
+        rec = ContactRecord(int(len(self.cm.pairs)), int(len(c.rows)))
+        if c.result is not None:
+            rec.closed = int(np.sum(c.result.active))
+            rec.iterations = int(c.result.iterations)
+            rec.kkt = c.result.kkt_residuals(c.rows.gap, c.rows.normal)
+        return rec
+
+    def release(self) -> None:
+        """Free the MUMPS factors now (tens of MB a step)."""
+        self.problem.destroy()
+
+
+@dataclass
+class Solution(Discretisation):
+    """A discretised geometry solved at one load factor, with its tips' SIFs."""
+    tips: list = ()
+
+
+def sif_method(case) -> str:
+    """"correlation" or "interaction": which SIFs drive growth."""
+    return case.propagation.sif
+
+
+def driving(tips: list, case) -> list:
+    """`tips` (TipSIF) with theta, K_eq and G of the SIFs that drive growth:
+    unchanged for displacement correlation; from KI_M, KII_M for the
+    interaction integral, where it had room (else correlation's stay)."""
+    if sif_method(case) == "correlation" or not tips:
+        return tips
+    m = case.material
+    kap = K.kappa(m.nu, m.plane)
+    out = []
+    for t in tips:
+        if t.KI_M is None:
+            out.append(t)
+            continue
+        KI, KII = np.array([t.KI_M], float), np.array([t.KII_M], float)
+        theta = np.atleast_1d(K.mts_angle(KI, KII))
+        out.append(replace(t, theta=float(theta[0]), K_eq=float(np.atleast_1d(K.equivalent_k(KI, KII, theta))[0]),
+                           G=float(np.atleast_1d(K.energy_release_rate(KI, KII, m.E, m.nu, kap))[0])))
+    return out
+
+
+def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT) -> Discretisation:
+    """Mesh `fractures` (anything with .points: case Fracture or
+    GrowingFracture) in the case's domain, with the bc points as nodes, in
+    the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
+    loads, the check for pieces nothing holds, assembly, factorisation (with
+    the Schur complement on the contact pair dofs) and the contact rows.
+    sizes: the error-estimate size field of the previous step (or None)."""
+    from meshing.crack_mesh import crack_mesh
+
+    from .contact.constraints import constraint_rows
+    from .fem.contact_problem import ContactProblem
+    from .fem.elasticity import ElasticProblem
+    from .fem.mesh import to_dolfinx
+    from .fem.pair_operator import PairOperator
+    from .free_pieces import describe, free_pieces
+    from .loads import case_loads
+    from .parallel import on_root
+
+    polylines = [np.asarray(f.points, float) for f in fractures]
+    cm = on_root(lambda: crack_mesh(case.domain, polylines, case.bc_points(), case.mesh.size, case.mesh.tip_size,
+                                    sectors=case.mesh.sectors, sizes=sizes, timeout=timeout))
+    timer.lap("mesh")
+    fm = to_dolfinx(cm)
+    timer.lap("to_dolfinx")
+    m = case.material
+    loads = case_loads(case, cm)
+    pieces = free_pieces(cm, loads)
+    if pieces:
+        raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
+                               f"no displacement condition holds ({describe(pieces)})")
+    problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
+    rows = constraint_rows(cm, fractures)
+    timer.lap("assemble")
+    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None)
+    timer.lap("factorize")
+    contact = ContactProblem(problem, rows)
+    timer.lap("contact")
+    return Discretisation(cm, problem, contact)
+
+
+def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
+                  timeout: float | None = MESH_TIMEOUT) -> Solution:
+    """The case's initial geometry discretised, solved at `load_factor`
+    (with contact) and its SIFs: what `sif` computes."""
+    timer = timer or Timer()
+    d = discretise(case, case.fractures, timer, timeout=timeout)
+    d.solve(load_factor)
+    timer.lap("solve")
+    tips = d.sifs(case, [f.points for f in case.fractures])
+    timer.lap("sif")
+    return Solution(d.cm, d.problem, d.contact, tips)
+
+
+def static_states(tips, KIc) -> list:
+    """In a static solve a tip is "growing" when it has reached the toughness."""
+    return ["growing" if KIc is not None and t.K_eq >= KIc * (1 - STATIC_RTOL) else "arrested" for t in tips]
+
+
+def sif_warnings(tips) -> list:
+    """One line for each tip where displacement correlation (KI, KII) and
+    the interaction integral (KI_M, KII_M, the reference: it integrates the
+    whole field around the tip, where correlation reads four nodes next to
+    it) differ by more than SIF_AGREEMENT of K = sqrt(KI_M^2 + KII_M^2)."""
+    out = []
+    for t in tips:
+        if t.KI_M is None or t.KII_M is None:
+            continue
+        k = float(np.hypot(t.KI_M, t.KII_M))
+        off = max(abs(t.KI - t.KI_M), abs(t.KII - t.KII_M))
+        if k > 0 and off > SIF_AGREEMENT * k:
+            out.append(f"fracture {t.fracture} end {t.end}: displacement correlation KI {t.KI:.6g}, KII {t.KII:.6g} "
+                       f"and the interaction integral KI_M {t.KI_M:.6g}, KII_M {t.KII_M:.6g} Pa m^0.5 differ by "
+                       f"{100 * off / k:.2g} % of K")
+    return out
+
+
+def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, timer: Timer, solves: int = 1,
+           states=None, advances=None) -> StepRecord:
+    """The record of solved step k (tip states and advances when it grew;
+    "arrested" and 0 otherwise), its files written when there is an output
+    folder `out`."""
+    if out is not None:
+        write_step_files(out, k, load_factor, disc)
+        timer.lap("output")
+    states = states or ["arrested"] * len(tips)
+    advances = advances or [0.0] * len(tips)
+    seconds = {name: round(v, 6) for name, v in timer.seconds.items()}
+    seconds["total"] = round(sum(timer.seconds.values()), 6)
+    return StepRecord(k, load_factor, disc.dofs, disc.cells,
+                      [TipRecord.of(t, s, a) for t, s, a in zip(tips, states, advances)],
+                      disc.contact_record(), seconds, {n: disc.cm.stats[n] for n in MESH_STATS}, solves,
+                      sif_warnings(tips))
+
+
+def require_finite(what: str, values) -> None:
+    """ComputationError when a value of the solution is NaN or inf (a case
+    whose magnitudes floating point cannot hold): said at once, instead of
+    growth on NaN or a summary that cannot be written."""
+    bad = [v for v in np.atleast_1d(np.asarray(values, float)) if not np.isfinite(v)]
+    if bad:
+        raise ComputationError(f"the solution is not finite ({what} is {bad[0]:g}): the magnitudes of the case "
+                               "are beyond floating point")
+
+
+def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> None:
+    """step_XXXX.vtu and faces_XXXX.vtu of step k (with the step and its
+    load factor as field data), and the two ParaView indices over steps
+    0..k, rewritten so that an interrupted run keeps a complete index.
+    Collective; rank 0 writes."""
+    from mpi4py import MPI
+
+    from .io.faces import write_faces
+    from .io.fields import write_fields
+    from .io.outdir import FACES_PVD, FIELDS_PVD, faces_name, fields_name
+    from .io.pvd import write_pvd
+
+    out = Path(out)
+    about = {"step": k, "load_factor": load_factor}
+    write_fields(out / fields_name(k), disc.problem, disc.cm, field_data=about)
+    faces = disc.face_values()
+    if MPI.COMM_WORLD.rank == 0:
+        write_faces(out / faces_name(k), disc.cm, *faces, field_data=about)
+        write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
+        write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
+
+
+def files_of(out, n: int) -> dict:
+    """{name: path} of the data files of a result of n steps in `out`
+    (span names such as step_{0000..0014}.vtu; the pictures are added by
+    api)."""
+    from .io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
+
+    def span(name):
+        return name(0) if n == 1 else name(0).replace("0000", f"{{0000..{n - 1:04d}}}")
+
+    out = Path(out)
+    files = {"summary": out / SUMMARY}
+    if n:   # one field file and one face file per step, and their indices
+        files.update(fields=out / span(fields_name), faces=out / span(faces_name),
+                     fields_pvd=out / FIELDS_PVD, faces_pvd=out / FACES_PVD)
+    return files
+
+
+def failure(k: int, err: BaseException) -> str:
+    """The status of a computation that failed at step k."""
+    return f"failed: step {k}: {' '.join(str(err).split()) or type(err).__name__}"
+
+
+def summary(case, status: str, steps: list, fractures: list, warnings=()) -> Summary:
+    """The summary of a result: `steps` (StepRecord), `fractures` the pieces
+    [{points, origin, fracture}] of the last finished geometry, warnings
+    about the whole result; one line more when the SIF methods disagreed."""
+    return Summary(case.title, __version__, status, list(steps), fractures,
+                   result_warnings(steps, sif_method(case)) + list(warnings))
+
+
+def result_warnings(steps: list, method: str = "correlation") -> list:
+    """The warnings of a whole result from its steps' own (one line, however
+    many steps and tips)."""
+    flagged = [(s.step, w) for s in steps for w in s.warnings]   # a step's warnings are sif_warnings
+    if not flagged:
+        return []
+    steps_hit = sorted({k for k, _ in flagged})
+    first_step, first = flagged[0]
+    where = f"step {first_step}" if len(steps_hit) == 1 else f"{len(steps_hit)} steps (first: step {first_step})"
+    driver = ("growth is driven by displacement correlation (propagation.sif = \"interaction\" uses the other)"
+              if method == "correlation" else "growth is driven by the interaction integral")
+    return [f"the two SIF methods differ by more than {100 * SIF_AGREEMENT:g} % of K at {len(flagged)} tip(s) "
+            f"in {where}: {first}; {driver}; see the steps' warnings in summary.json"]
