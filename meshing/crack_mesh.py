@@ -35,6 +35,7 @@ import numpy as np
 
 from meshing import admissibility, point_symmetry
 from meshing.domain import Domain
+from meshing.records import RawMesh, SplitMesh
 from meshing.timeout import MeshTimeout, call_with_timeout
 
 # gmsh and wingcrack_kernels are imported inside the functions that use them:
@@ -166,12 +167,12 @@ def crack_mesh(
         raw = _glue(domain, plan, half, raw)
 
     t0 = time.perf_counter()
-    split = _kernels.split_faces(
-        raw["x"], raw["cells"], raw["crack_edges"], raw["crack_fracture"], raw["boundary_edges"]
-    )
+    # the binding answers a dict: its one conversion into the record
+    split = SplitMesh(**_kernels.split_faces(raw.x, raw.cells, raw.crack_edges, raw.crack_fracture,
+                                             raw.boundary_edges))
     tips = _tip_nodes(plan, raw, split)
-    x = _kernels.quarter_points(split["x"], split["cells"], np.array([t.node for t in tips], dtype=np.int64))
-    jac = _kernels.min_jacobian(x, split["cells"])
+    x = _kernels.quarter_points(split.x, split.cells, np.array([t.node for t in tips], dtype=np.int64))
+    jac = _kernels.min_jacobian(x, split.cells)
     if jac.size and jac.min() <= 0.0:
         bad = int(np.argmin(jac))
         raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
@@ -183,18 +184,18 @@ def crack_mesh(
     names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
     mesh = CrackMesh(
         x=x,
-        cells=split["cells"],
-        boundary_edges=split["boundary_edges"],
-        boundary_tags=np.array([names[n] for n in raw["boundary_name"]], dtype=np.int64),
+        cells=split.cells,
+        boundary_edges=split.boundary_edges,
+        boundary_tags=np.array([names[n] for n in raw.boundary_name], dtype=np.int64),
         boundary_names=names,
-        pairs=split["pairs"],
-        pair_normal=split["pair_normal"],
-        pair_fracture=split["pair_fracture"],
-        crack_edges=split["crack_edges"],
-        crack_fracture=raw["crack_fracture"],
+        pairs=split.pairs,
+        pair_normal=split.pair_normal,
+        pair_fracture=split.pair_fracture,
+        crack_edges=split.crack_edges,
+        crack_fracture=raw.crack_fracture,
         tips=tips,
-        point_nodes=raw["point_nodes"],
-        crack_edges_minus=split["crack_edges_minus"],
+        point_nodes=raw.point_nodes,
+        crack_edges_minus=split.crack_edges_minus,
     )
     mesh.stats = {
         "nodes": int(len(x)),
@@ -437,7 +438,7 @@ def _junctions(polylines, free_ends, tol):
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm) -> dict:
+def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm) -> RawMesh:
     import gmsh
 
     gmsh.initialize(readConfigFiles=False)
@@ -451,7 +452,7 @@ def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_siz
 
 
 def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm, half=None,
-                    mirror_sizes=False) -> dict:
+                    mirror_sizes=False) -> RawMesh:
     """The mesh of the whole domain, or with `half` (a point_symmetry.Half) of
     the half on the left of the divider only; the other half's tips and crack
     curves are then free geometry that only shapes the size field."""
@@ -632,7 +633,7 @@ def _with_divider(domain, plan: _Plan, half) -> _Plan:
     return dataclasses.replace(plan, fractures=fractures, junction=junction, anchors=anchors)
 
 
-def _glue(domain, plan: _Plan, half, raw: dict) -> dict:
+def _glue(domain, plan: _Plan, half, raw: RawMesh) -> RawMesh:
     """The whole mesh from gmsh's mesh of the left half and its image."""
     tol = 1e-9 * domain.length_scale()
     tip_image = []
@@ -731,11 +732,11 @@ def _threshold(distance_field, h0, size, d0, grading=GRADING):
 # -- 3. read the mesh back ---------------------------------------------------------
 
 
-def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -> dict:
-    """The mesh as arrays. tip_point: (centre, corner) point tags of each tip,
+def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -> RawMesh:
+    """The mesh gmsh made. tip_point: (centre, corner) point tags of each tip,
     corner None for a tip not meshed here (its nodes are -1); point_tags: of
     each bc point, None likewise; divider: curves whose nodes are returned as
-    "divider_nodes"."""
+    divider_nodes."""
     import gmsh
 
     mesh = gmsh.model.mesh
@@ -780,41 +781,42 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -
         return int(index(mesh.getNodes(0, tag, returnParametricCoord=False)[0])[0])
 
     on_divider = [curve_edges(c).ravel() for c in divider]
-    return {
-        "divider_nodes": np.unique(np.concatenate(on_divider)) if on_divider else np.zeros(0, np.int64),
-        "x": x,
-        "cells": cells,
-        "boundary_edges": np.concatenate(b_edges).astype(np.int64),
-        "boundary_name": b_names,
-        "crack_edges": np.concatenate(c_edges).astype(np.int64) if c_edges else np.zeros((0, 3), np.int64),
-        "crack_fracture": np.array(c_frac, dtype=np.int64),
-        "tip_node": [point_node(centre if r0 is not None else None) for centre, r0 in tip_point],
-        "tip_corner": [point_node(r0) for _, r0 in tip_point],
-        "point_nodes": np.array([point_node(tag) for tag in point_tags], dtype=np.int64),
-    }
+    return RawMesh(
+        x=x,
+        cells=cells,
+        boundary_edges=np.concatenate(b_edges).astype(np.int64),
+        boundary_name=tuple(b_names),
+        crack_edges=np.concatenate(c_edges).astype(np.int64) if c_edges else np.zeros((0, 3), np.int64),
+        crack_fracture=np.array(c_frac, dtype=np.int64),
+        tip_node=np.array([point_node(centre if r0 is not None else None) for centre, r0 in tip_point],
+                          dtype=np.int64),
+        tip_corner=np.array([point_node(r0) for _, r0 in tip_point], dtype=np.int64),
+        point_nodes=np.array([point_node(tag) for tag in point_tags], dtype=np.int64),
+        divider_nodes=np.unique(np.concatenate(on_divider)) if on_divider else np.zeros(0, np.int64),
+    )
 
 
 # -- 4. tips after the split -----------------------------------------------------
 
 
-def _tip_nodes(plan: _Plan, raw: dict, split: dict) -> list[TipNodes]:
+def _tip_nodes(plan: _Plan, raw: RawMesh, split: SplitMesh) -> list[TipNodes]:
     out = []
-    orig = raw["crack_edges"]
-    for t, tip, corner in zip(plan.tips, raw["tip_node"], raw["tip_corner"]):
+    orig = raw.crack_edges
+    for t, tip, corner in zip(plan.tips, raw.tip_node.tolist(), raw.tip_corner.tolist()):
         # the spoke on the crack: the crack edge joining the tip and its corner node
         ends = np.sort(orig[:, :2], axis=1)
         k = int(np.flatnonzero(np.all(ends == sorted((tip, corner)), axis=1))[0])
-        plus, minus = (_quarter_and_corner(split[key][k], tip) for key in ("crack_edges", "crack_edges_minus"))
+        plus, minus = (_quarter_and_corner(edges[k], tip) for edges in (split.crack_edges, split.crack_edges_minus))
         ex = -t.back
         out.append(
             TipNodes(
                 fracture=t.fracture,
                 end=t.end,
                 node=int(tip),
-                x=split["x"][tip].copy(),
+                x=split.x[tip].copy(),
                 ex=ex,
                 ey=np.array([-ex[1], ex[0]]),
-                h=float(np.linalg.norm(split["x"][plus[1]] - split["x"][tip])),
+                h=float(np.linalg.norm(split.x[plus[1]] - split.x[tip])),
                 upper=plus if t.end == 1 else minus,
                 lower=minus if t.end == 1 else plus,
             )

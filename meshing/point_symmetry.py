@@ -26,6 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from meshing.records import RawMesh
+
 #: directions tried for the divider (degrees, from the x axis)
 CANDIDATES = np.deg2rad(np.arange(0.0, 180.0, 1.0) + 0.5)
 #: the divider stays this many tip sizes away from every tip (rosette radius <= 1 tip size)
@@ -251,18 +253,18 @@ def insert_divider(polylines, junction, half: Half, tol: float):
     return out, junction
 
 
-def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[int], tol: float) -> dict:
-    """The whole mesh from the mesh of one half (gmsh's raw dict): every node
-    of the half but those on the divider gets an image R(x); cells, boundary
-    and crack edges are copied through the node map.
+def glue(raw: RawMesh, half: Half, domain, tip_image: list[int], point_image: list[int], tol: float) -> RawMesh:
+    """The whole mesh from the mesh of one half (gmsh's): every node of the
+    half but those on the divider gets an image R(x); cells, boundary and
+    crack edges are copied through the node map.
 
-    raw must carry "divider_nodes" (indices of the nodes on the divider);
-    tip_image / point_image: for every tip / bc point of the plan, -1 when it
-    is in the meshed half (its node is in raw), else the index of the tip /
-    point whose image it is."""
-    x = raw["x"]
+    raw.divider_nodes: the nodes on the divider; tip_image / point_image:
+    for every tip / bc point of the plan, -1 when it is in the meshed half
+    (its node is in raw), else the index of the tip / point whose image it
+    is."""
+    x = raw.x
     n = len(x)
-    on_div = np.asarray(raw["divider_nodes"], dtype=np.int64)
+    on_div = np.asarray(raw.divider_nodes, dtype=np.int64)
     image_of = np.full(n, -1, dtype=np.int64)
     if len(on_div):
         xd, rd = x[on_div], rotate(x[on_div], half.center)
@@ -275,19 +277,19 @@ def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[
     image_of[fresh] = n + np.arange(len(fresh))
     x_all = np.concatenate([x, rotate(x[fresh], half.center)])
 
-    cells = np.concatenate([raw["cells"], image_of[raw["cells"]]])  # a half turn keeps orientation
+    cells = np.concatenate([raw.cells, image_of[raw.cells]])  # a half turn keeps orientation
 
-    b = raw["boundary_edges"]
+    b = raw.boundary_edges
     b_img = image_of[b]
-    names = list(raw["boundary_name"])
+    names = list(raw.boundary_name)
     for e in b_img:
         name = domain.boundary_name_at(x_all[e[2]], 1e-6 * domain.length_scale())
         if name is None:
             raise RuntimeError("symmetric mesh: a boundary edge's image is off the boundary")
         names.append(name)
 
-    ce = raw["crack_edges"]
-    frac = np.asarray(raw["crack_fracture"], dtype=np.int64)
+    ce = raw.crack_edges
+    frac = np.asarray(raw.crack_fracture, dtype=np.int64)
     img_frac = np.array([half.fracture_image[f][0] for f in frac], dtype=np.int64)
     flip = np.array([half.fracture_image[f][1] for f in frac], dtype=bool)
     ce_img = image_of[ce]
@@ -299,20 +301,18 @@ def glue(raw: dict, half: Half, domain, tip_image: list[int], point_image: list[
         values = list(values)
         return [values[i] if k < 0 else int(image_of[values[k]]) for i, k in enumerate(images)]
 
-    out = dict(raw)
-    out.update(
+    return RawMesh(
         x=x_all,
         cells=cells,
         boundary_edges=np.concatenate([b, b_img]).astype(np.int64),
-        boundary_name=names,
+        boundary_name=tuple(names),
         crack_edges=ce_all,
         crack_fracture=frac_all,
-        tip_node=through(raw["tip_node"], tip_image),
-        tip_corner=through(raw["tip_corner"], tip_image),
-        point_nodes=np.array(through(raw["point_nodes"], point_image), dtype=np.int64),
+        tip_node=np.array(through(raw.tip_node.tolist(), tip_image), dtype=np.int64),
+        tip_corner=np.array(through(raw.tip_corner.tolist(), tip_image), dtype=np.int64),
+        point_nodes=np.array(through(raw.point_nodes, point_image), dtype=np.int64),
+        divider_nodes=np.zeros(0, np.int64),
     )
-    out.pop("divider_nodes", None)
-    return out
 
 
 def _along_fractures(edges: np.ndarray, fracture: np.ndarray):

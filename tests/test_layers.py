@@ -48,6 +48,13 @@ def test_no_gmsh_in_fem():
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)
 
 
+def test_gmsh_only_in_meshing():
+    bad = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "wingcrack").rglob("*.py")
+                 if "gmsh" in imported_modules(p))
+    assert not bad, bad
+    assert "gmsh" in imported_modules(ROOT / "meshing/crack_mesh.py")   # the check sees nested imports
+
+
 def test_meshing_never_imports_the_wingcrack_package():
     static = {p.name: imported_modules(p) & {"wingcrack"} for p in (ROOT / "meshing").glob("*.py")}
     assert not any(static.values()), static
