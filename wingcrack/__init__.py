@@ -10,7 +10,7 @@ IJSS 2020).
 DOLFINx is imported only when a computation starts, so reading and checking
 cases stays fast.
 """
-__version__ = "0.1.0"
+from .version import __version__
 
 __all__ = ["Case", "CaseError", "ComputationError", "FolderError", "sif", "run", "plot", "__version__"]
 

@@ -18,7 +18,7 @@ import sys
 import traceback
 from pathlib import Path
 
-from wingcrack import __version__
+from wingcrack.version import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
 from wingcrack.parallel import world_rank
 from wingcrack.progress import ProgressBar

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from .version import __version__
 from . import _kernels as K
 from .errors import ComputationError
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
