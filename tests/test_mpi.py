@@ -119,7 +119,7 @@ def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
         assert abs(sa["load_factor"] - sb["load_factor"]) <= 1e-8 * sa["load_factor"]
         assert_sifs_agree(sa, sb)
         assert [t["state"] for t in sa["tips"]] == [t["state"] for t in sb["tips"]]
-    size = 0.084 if "disc" in case else 7.0
+    size = 0.084 if "disc" in case else 6.0
     fa = [np.array(f["points"]) for f in a["fractures"]]
     fb = [np.array(f["points"]) for f in b["fractures"]]
     assert len(fa) == len(fb)
