@@ -155,7 +155,7 @@ def test_check_summary_of_brazilian_disc():
     assert "fractures: 1, tips: 2" in out
     assert "faces frictionless" in out
     assert "tip_size 0.0005 m" in out
-    assert "34 steps" in out
+    assert "100 steps" in out
 
 
 def test_console_script_when_installed():

@@ -159,3 +159,18 @@ def test_a_step_that_cannot_be_recorded_fails_with_a_summary(tmp_path):
         run(case, out=tmp_path)
     saved = json.loads((tmp_path / "summary.json").read_text())
     assert saved["status"].startswith("failed: step 0: ") and saved["steps"] == []
+
+
+def test_a_case_with_no_tip_that_may_grow_stops_at_once():
+    """Every fracture `grow = false`: no step can be taken, and the status
+    says why (a run whose tips all joined or reached the boundary after
+    growing is "finished" instead: tests/test_growth_to_rim.py)."""
+    from wingcrack.propagation.loop import NO_TIP_AT_ALL
+
+    d = square_plate_with_cracks(L, [[[-A, 0.0], [A, 0.0]]], (0.0, 0.0, 0.0), size=10 * A, tip_size=0.05)
+    d["fractures"][0]["grow"] = False
+    d["bc"] += [{"on": "top", "traction": [0.0, SIGMA]}, {"on": "bottom", "traction": [0.0, -SIGMA]}]
+    d["propagation"] = {"steps": 3, "length": 0.1}
+    r = run(Case.from_dict(d))
+    assert r.status == NO_TIP_AT_ALL == "stopped: no tip can grow (no fracture has a free tip that may grow)"
+    assert r.steps == []

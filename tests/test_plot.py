@@ -381,7 +381,7 @@ def test_progress_bar_on_a_terminal_and_none_with_quiet(monkeypatch):
     with cli._progress(case, quiet=False) as progress:
         progress(0, STEP)
     shown = "".join(term.text)
-    assert "1/34" in shown and progress_text(STEP) in shown
+    assert "1/100" in shown and progress_text(STEP) in shown
 
 
 ROOT_CASE = Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml"

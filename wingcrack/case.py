@@ -371,8 +371,9 @@ class Propagation:
                             "whose next step lands within the join distance (1.5 `tip_size`) of the wing's own "
                             "kink, goes straight on there when the mesher has room for the rosette.",
                         limit=Limit(hi=1.0, of="L", why="no step longer than the domain"))
-    steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. With `0`, `run` does nothing "
-                     "(use `sif`).")
+    steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. A run whose every tip joined "
+                     "another fracture or reached the boundary is `finished` earlier. With `0`, `run` "
+                     "does nothing (use `sif`).")
     alpha: float = key(0.35, range=POSITIVE, doc="The growth-law exponent: L_i = Lmax (G_i / max G)^alpha over the "
                        "tips with K_eq >= KIc (relative tolerance 1e-3). A tip whose L_i < 0.4·`mesh.tip_size` does "
                        "not advance, unless it grows straight on.")

@@ -10,7 +10,11 @@
 
 summary.json is rewritten after every step; a failure keeps every finished
 step and says "failed: <reason>". A step in which no tip moves ends the run
-("stopped: no tip can grow (...)"): the next step would be the same.
+("stopped: no tip can grow (...)"): the next step would be the same. A run
+whose every tip has joined another fracture or reached the boundary has
+completed its growth and is "finished" before propagation.steps (the disc's
+wings at the load points); a case with no tip that may grow at all stops
+with NO_TIP_AT_ALL.
 """
 from __future__ import annotations
 
@@ -29,7 +33,15 @@ from . import checkpoint, growth, interrupt
 from .critical_load import critical_load_factor, scales_with_load
 from .fracture_set import FractureSet
 
-NO_TIP_LEFT = "stopped: no tip can grow (every tip joined, at the boundary or not growing)"
+#: no fracture of the case has a free tip that may grow (every end a mouth, or grow = false)
+NO_TIP_AT_ALL = "stopped: no tip can grow (no fracture has a free tip that may grow)"
+
+
+def no_tip_left(records) -> str:
+    """The status of a run in which no free tip that may grow is left: the
+    growth is complete ("finished") when steps were done (every tip joined or
+    reached the boundary), else nothing could ever grow."""
+    return "finished" if records else NO_TIP_AT_ALL
 
 
 @dataclass
@@ -133,7 +145,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
         try:
             interrupt.check()
             if not fset.active_tips():
-                status = NO_TIP_LEFT
+                status = no_tip_left(records)
                 break
             _release(disc)   # the previous step's factors and forms
             disc = None
@@ -141,7 +153,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
             if not grow:
-                status = NO_TIP_LEFT
+                status = no_tip_left(records)
                 break
             if prop.load == "scale":
                 crit = _critical_load(case, disc, fset, grow, lam)
