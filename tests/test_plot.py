@@ -385,3 +385,23 @@ def test_progress_bar_on_a_terminal_and_none_with_quiet(monkeypatch):
 
 
 ROOT_CASE = Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml"
+
+
+def test_the_picture_marks_the_tips_after_the_last_step():
+    """fractures.png marks where the tips are at the end: a tip that grew in
+    the last step sits at its fracture's final end (summary["fractures"]), not
+    where the step started; one that reached the boundary or joined a fracture
+    in it is no tip any more (the 45-degree disc ends with both wings on the rim)."""
+    from wingcrack.io.pictures import _tips_at_end
+
+    tip = lambda end, x, state: {"fracture": 0, "end": end, "x": x, "y": 0.0, "state": state, "advance": 0.1}
+    summary = {
+        "steps": [{"tips": [tip(0, -1.0, "growing"), tip(1, 1.0, "growing")]},
+                  {"tips": [tip(0, -1.1, "boundary"), tip(1, 1.1, "growing")]}],
+        "fractures": [{"points": [[-1.2, 0.0], [-1.0, 0.0]], "origin": "wing", "fracture": 0},
+                      {"points": [[-1.0, 0.0], [1.0, 0.0]], "origin": "pre-existing", "fracture": 0},
+                      {"points": [[1.0, 0.0], [1.1, 0.0], [1.2, 0.0]], "origin": "wing", "fracture": 0}],
+    }
+    assert _tips_at_end(summary) == [{"x": 1.2, "y": 0.0}]
+    summary["steps"][-1]["tips"][1]["state"] = "joined"
+    assert _tips_at_end(summary) == []

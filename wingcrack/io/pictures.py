@@ -94,12 +94,43 @@ def fractures_of_result(path: Path, result) -> Path:
         boundary = outer_boundary(mesh.x, mesh.triangles)
         closed = faces.lines[faces.closed]
         tips = [{"x": t["x"], "y": t["y"]} for t in steps[-1]["tips"]]
+    rosette = _rosette(mesh, tips)   # measured on the last step's mesh, at its tips
     title = f"{s['title']}: {len(steps)} step{'s' if len(steps) != 1 else ''}"
     if s["status"] != "finished":
         title += "\n" + textwrap.shorten(s["status"], 70)
-    return plot_fractures(path, s["fractures"], tips=tips, rosette=_rosette(mesh, tips),
+    return plot_fractures(path, s["fractures"], tips=_tips_at_end(s), rosette=rosette,
                           closed_segments=closed, title=title, mesh=mesh, growth=growth_segments(s),
                           boundary=boundary)
+
+
+def _tips_at_end(summary: dict) -> list:
+    """The crack tips after the last step: where its free tips went (their
+    fracture's final ends); a tip that joined a fracture or reached the
+    boundary in it is no tip any more."""
+    steps = summary["steps"]
+    if not steps:
+        return []
+    final = _final_ends(summary)
+    out = []
+    for t in steps[-1]["tips"]:
+        if t.get("state") in ("joined", "boundary"):
+            continue
+        x, y = final.get((t["fracture"], t["end"]), (t["x"], t["y"]))
+        out.append({"x": float(x), "y": float(y)})
+    return out
+
+
+def _final_ends(summary: dict) -> dict:
+    """{(fracture, end): (x, y)} of every fracture's ends in summary["fractures"]
+    (its pieces: wing at end 0, pre-existing part, wing at end 1)."""
+    pieces = {}
+    for f in summary["fractures"]:
+        if "fracture" in f:
+            pieces.setdefault(f["fracture"], []).append(np.asarray(f["points"], float))
+    final = {}
+    for i, p in pieces.items():
+        final[(i, 0)], final[(i, 1)] = p[0][0], p[-1][-1]
+    return final
 
 
 def growth_segments(summary: dict) -> list:
@@ -107,13 +138,7 @@ def growth_segments(summary: dict) -> list:
     grew in each step, from its position in that step to its position in
     the next (or, after the last step or once it joined or reached the
     boundary, to its fracture's final end in summary["fractures"])."""
-    pieces = {}
-    for f in summary["fractures"]:
-        if "fracture" in f:   # run summaries: wing at end 0, pre-existing, wing at end 1
-            pieces.setdefault(f["fracture"], []).append(np.asarray(f["points"], float))
-    final = {}
-    for i, p in pieces.items():
-        final[(i, 0)], final[(i, 1)] = p[0][0], p[-1][-1]
+    final = _final_ends(summary)
     steps = summary["steps"]
     out = []
     for k, step in enumerate(steps):
