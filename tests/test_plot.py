@@ -385,3 +385,20 @@ def test_progress_bar_on_a_terminal_and_none_with_quiet(monkeypatch):
 
 
 ROOT_CASE = Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml"
+
+
+def test_a_case_without_fractures_gets_its_pictures(plate_case, tmp_path, capsys):
+    """A case with no fractures is valid: its sif result has a face file
+    without cells (meshio cannot read one back), and fractures.png was not
+    drawn ("could not be drawn" warning) while `wingcrack plot` exited 2."""
+    case = tmp_path / "plain.toml"
+    case.write_text(plate_case.read_text().replace(
+        '[[fractures]]\npoints = [[-0.35, -0.35], [0.35, 0.35]]\nfaces = "frictionless"\n', ""))
+    out = tmp_path / "out"
+    assert cli.main(["-q", "sif", str(case), "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "", captured.err
+    assert "warnings" not in json.loads((out / "summary.json").read_text())
+    assert (out / "fractures.png").is_file()
+    assert cli.main(["plot", str(out)]) == 0
+    assert capsys.readouterr().err == ""
