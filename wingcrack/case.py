@@ -107,7 +107,7 @@ class Range:
     note: str = ""
 
     def check(self, x, key: str, what: str = "") -> None:
-        got = f"{x:g}" if isinstance(x, float) else str(x)
+        got = _shown(x) if isinstance(x, float) else str(x)
         lo, hi = self.lo, self.hi
         if lo is not None and hi is not None and self.open:
             if not lo < x < hi:
@@ -117,6 +117,18 @@ class Range:
             raise CaseError(key, f"{what}must be {'>' if self.open else '>='} {lo:g}{self.note}, got {got}")
         if hi is not None and not (x < hi if self.open else x <= hi):
             raise CaseError(key, f"{what}must be {'<' if self.open else '<='} {hi:g}{self.note}, got {got}")
+
+
+def _shown(x) -> str:
+    """A refused number as %g, or with the digits it takes to be exact: a value
+    just beyond a bound (E = 1.0000001e13) must not read as the bound itself
+    ("got 1e+13")."""
+    x = float(x)
+    for digits in range(6, 18):
+        text = f"{x:.{digits}g}"
+        if float(text) == x:
+            return text
+    return repr(x)
 
 
 POSITIVE = Range(0, open=True)
@@ -146,10 +158,10 @@ class Limit:
             return
         unit = f" {unit}" if unit else ""
         if self.lo > 0:
-            raise CaseError(key, f"must lie within {self.lo:g} .. {self.hi:g}{unit} ({self.why}), got {x:g}")
+            raise CaseError(key, f"must lie within {self.lo:g} .. {self.hi:g}{unit} ({self.why}), got {_shown(x)}")
         bound = f"{self.bound} = {self.hi * scale:.4g}{unit}" if self.of else f"{self.hi:g}{unit}"
         size = " in magnitude" if signed else ""
-        raise CaseError(key, f"must be at most {bound}{size} ({self.why}), got {x:g}")
+        raise CaseError(key, f"must be at most {bound}{size} ({self.why}), got {_shown(x)}")
 
     @property
     def bound(self) -> str:
