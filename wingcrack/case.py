@@ -30,6 +30,7 @@ import os
 import stat
 import tomllib
 import typing
+import unicodedata
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -410,7 +411,8 @@ class Propagation:
 TOP_KEYS = (
     Key("title", STRING, "", default_doc="the file name without `.toml` (`Case.from_dict` gives `\"\"`)",
         doc="The name shown in `check`, in pictures and in `summary.json`.",
-        limit=Limit(hi=200, why="one line of a picture's title")),
+        limit=Limit(hi=200, why="one line of a picture's title"),
+        rule="no control characters (newline, tab, NUL)"),
     Key("material", TABLE, doc="See below."),
     Key("domain", TABLE, doc="See below."),
     Key("fractures", TABLES, None, default_doc="none", doc="Pre-existing fractures. A case with no fractures is valid.",
@@ -816,6 +818,10 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     top.refuse_unknown(DESCRIPTION["top"])
     section = {k.name: k for k in DESCRIPTION["top"]}  # each read in its turn: errors in reading order
     title = top.value(section["title"])
+    bad = next((c for c in title if unicodedata.category(c) in ("Cc", "Zl", "Zp")), None)
+    if bad is not None:
+        raise CaseError("title", f"one line of text, without control characters (it holds {ascii(bad)} at "
+                                 f"character {title.index(bad) + 1})")
 
     material = Material(**top.value(section["material"]).read(DESCRIPTION["material"]))
     domain = _parse_domain(top.value(section["domain"]))
