@@ -402,3 +402,18 @@ def test_a_case_without_fractures_gets_its_pictures(plate_case, tmp_path, capsys
     assert (out / "fractures.png").is_file()
     assert cli.main(["plot", str(out)]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_a_title_the_font_lacks_draws_without_warnings(plate_case, tmp_path):
+    """An emoji in the title is valid Unicode text: the pictures draw it as a
+    box, and matplotlib's "Glyph ... missing from current font" warnings
+    (four lines on stderr, even with --quiet) are not printed. A subprocess:
+    pytest would catch the warnings itself."""
+    case = tmp_path / "rocket.toml"
+    case.write_text(plate_case.read_text().replace('title = "Inclined crack under compression"',
+                                                   'title = "\U0001F680 crack"'))
+    out = tmp_path / "out"
+    res = wingcrack("-q", "sif", case, "-o", out)
+    assert res.returncode == 0, res.stderr
+    assert res.stderr == ""
+    assert (out / "fractures.png").is_file()
