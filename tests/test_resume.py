@@ -150,6 +150,25 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path):
     assert len(wrong.stderr.strip().splitlines()) == 1
 
 
+def test_resume_with_a_finished_step_file_missing_exits_2(tmp_path):
+    """A folder whose checkpoint is good but a finished step's file was
+    deleted: the resumed run went on, wrote "finished" and a warning that
+    "the data are complete" over a result with a hole in it."""
+    case = write_case(tmp_path / "case.toml", steps=2)
+    out = tmp_path / "out"
+    assert subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots"],
+                          capture_output=True).returncode == 0
+    (out / "step_0001.vtu").unlink()
+    summary = (out / "summary.json").read_bytes()
+    more = write_case(tmp_path / "more.toml", steps=3)
+    res = subprocess.run([str(WINGCRACK), "run", str(more), "-o", str(out), "--resume", "--quiet"],
+                         capture_output=True, text=True)
+    assert res.returncode == 2, res.stderr
+    assert res.stderr == (f"wingcrack: error: {out}: step_0001.vtu of finished step 1 is missing: the result "
+                          "cannot be completed; start the run again without --resume (with --force)\n")
+    assert (out / "summary.json").read_bytes() == summary and not (out / "step_0002.vtu").exists()
+
+
 def _truncated(path):
     path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
 
