@@ -242,6 +242,16 @@ def fractures_apart(polylines) -> Problem | None:
     return None
 
 
+def _short(d: float, need: float, digits: int) -> str:
+    """d (< need, or <= need) with `digits` digits, or as many more as it takes
+    not to read as `need` or beyond ("is 0.0005 m from ..., at least 0.0005 m")."""
+    text = f"{d:.{digits}g}"
+    while float(text) >= need and d < need and digits < 17:
+        digits += 1
+        text = f"{d:.{digits}g}"
+    return text
+
+
 def rosette_radius(tip: float, segment: float) -> float:
     """The mesher's rosette radius at a tip whose segment is `segment` long."""
     return min(tip, ROSETTE_IN_SEGMENT * segment)
@@ -284,7 +294,8 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
                                                      f"tip rosette (tip_size {tip:g})")
         d = float(domain.distance_to_boundary(t.x))
         if d <= TIP_CLEARANCE * t.h + margin:
-            return Problem(key, f"{where} reaches the boundary: the tip is {d:.7g} m ({d / t.h:.7g} radii) "
+            return Problem(key, f"{where} reaches the boundary: the tip is {d:.7g} m "
+                                f"({_short(d / t.h, TIP_CLEARANCE, 7)} radii) "
                                 f"from it, it needs {TIP_CLEARANCE:g} radii")
         if not polylines:
             continue
@@ -300,7 +311,8 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
         if len(hit):
             k = hit[0]
             what = f"segment {index[k]} of its own fracture" if mine[k] else f"fractures[{owner[k]}]"
-            return Problem(key, f"{where} reaches {what}: the tip is {d[k]:.7g} m ({d[k] / t.h:.7g} radii) "
+            return Problem(key, f"{where} reaches {what}: the tip is {d[k]:.7g} m "
+                                f"({_short(d[k] / t.h, reach[k], 7)} radii) "
                                 f"from it, it needs {reach[k]:g} radii")
     x = np.array([t.x for t in tips], dtype=np.float64).reshape(-1, 2)
     h = np.array([t.h for t in tips], dtype=np.float64)
@@ -373,7 +385,7 @@ def anchors_apart(domain, points, point_keys, polylines, tip: float) -> Problem 
         if len(hit):
             k = hit[0]
             what = named[k][2] if k < a else "the corner ({:g}, {:g})".format(*corners[k - a])
-            return Problem(key, f"({p[0]:.10g}, {p[1]:.10g}) is {d[k]:.3g} m from {what}: boundary points that "
+            return Problem(key, f"({p[0]:.10g}, {p[1]:.10g}) is {_short(d[k], gap, 3)} m from {what}: boundary points that "
                                 f"become mesh nodes coincide or lie at least {ANCHOR_GAP:g} tip_size "
                                 f"({gap:g} m) apart")
     return None

@@ -405,3 +405,35 @@ def test_the_picture_marks_the_tips_after_the_last_step():
     assert _tips_at_end(summary) == [{"x": 1.2, "y": 0.0}]
     summary["steps"][-1]["tips"][1]["state"] = "joined"
     assert _tips_at_end(summary) == []
+
+
+def test_a_case_without_fractures_gets_its_pictures(plate_case, tmp_path, capsys):
+    """A case with no fractures is valid: its sif result has a face file
+    without cells (meshio cannot read one back), and fractures.png was not
+    drawn ("could not be drawn" warning) while `wingcrack plot` exited 2."""
+    case = tmp_path / "plain.toml"
+    case.write_text(plate_case.read_text().replace(
+        '[[fractures]]\npoints = [[-0.35, -0.35], [0.35, 0.35]]\nfaces = "frictionless"\n', ""))
+    out = tmp_path / "out"
+    assert cli.main(["-q", "sif", str(case), "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "", captured.err
+    assert "warnings" not in json.loads((out / "summary.json").read_text())
+    assert (out / "fractures.png").is_file()
+    assert cli.main(["plot", str(out)]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_a_title_the_font_lacks_draws_without_warnings(plate_case, tmp_path):
+    """An emoji in the title is valid Unicode text: the pictures draw it as a
+    box, and matplotlib's "Glyph ... missing from current font" warnings
+    (four lines on stderr, even with --quiet) are not printed. A subprocess:
+    pytest would catch the warnings itself."""
+    case = tmp_path / "rocket.toml"
+    case.write_text(plate_case.read_text().replace('title = "Inclined crack under compression"',
+                                                   'title = "\U0001F680 crack"'))
+    out = tmp_path / "out"
+    res = wingcrack("-q", "sif", case, "-o", out)
+    assert res.returncode == 0, res.stderr
+    assert res.stderr == ""
+    assert (out / "fractures.png").is_file()

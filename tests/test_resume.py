@@ -150,6 +150,25 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path):
     assert len(wrong.stderr.strip().splitlines()) == 1
 
 
+def test_resume_with_a_finished_step_file_missing_exits_2(tmp_path):
+    """A folder whose checkpoint is good but a finished step's file was
+    deleted: the resumed run went on, wrote "finished" and a warning that
+    "the data are complete" over a result with a hole in it."""
+    case = write_case(tmp_path / "case.toml", steps=2)
+    out = tmp_path / "out"
+    assert subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots"],
+                          capture_output=True).returncode == 0
+    (out / "step_0001.vtu").unlink()
+    summary = (out / "summary.json").read_bytes()
+    more = write_case(tmp_path / "more.toml", steps=3)
+    res = subprocess.run([str(WINGCRACK), "run", str(more), "-o", str(out), "--resume", "--quiet"],
+                         capture_output=True, text=True)
+    assert res.returncode == 2, res.stderr
+    assert res.stderr == (f"wingcrack: error: {out}: step_0001.vtu of finished step 1 is missing: the result "
+                          "cannot be completed; start the run again without --resume (with --force)\n")
+    assert (out / "summary.json").read_bytes() == summary and not (out / "step_0002.vtu").exists()
+
+
 def _truncated(path):
     path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
 
@@ -191,13 +210,43 @@ def _bad_points(path):
         np.savez(fh, **data)
 
 
+def _edit_meta(path, edit):
+    data = dict(np.load(path))
+    meta = json.loads(str(data["meta"]))
+    edit(meta)
+    data["meta"] = np.array(json.dumps(meta))
+    with open(path, "wb") as fh:
+        np.savez(fh, **data)
+
+
+def _step_behind_records(path):
+    """Resumed, it repeated steps: 0 1 2 1 2 ... in summary.json."""
+    _edit_meta(path, lambda m: m.update(step=m["step"] - 1))
+
+
+def _records_cut(path):
+    """Resumed, it skipped steps: 0 3 4 ..."""
+    _edit_meta(path, lambda m: m.update(steps=m["steps"][:-1]))
+
+
+def _load_factor_nan(path):
+    _edit_meta(path, lambda m: m.update(load_factor=float("nan")))
+
+
+def _load_factor_negative(path):
+    _edit_meta(path, lambda m: m.update(load_factor=-1.0))
+
+
 @pytest.mark.parametrize("damage", [_truncated, _empty, _garbage, _no_fractures_key, _no_points, _meta_not_json,
-                                    _bad_points], ids=lambda f: f.__name__.strip("_"))
+                                    _bad_points, _step_behind_records, _records_cut, _load_factor_nan,
+                                    _load_factor_negative], ids=lambda f: f.__name__.strip("_"))
 def test_resume_from_a_damaged_checkpoint_exits_2_naming_it(tmp_path, capsys, damage):
     """Issue 12.8: a checkpoint.npz that cannot be read (cut short, empty,
     not a zip, keys or arrays missing, a polyline of the wrong shape) is a
     bad input: exit 2 and one line naming the file, never "unexpected
-    BadZipFile". Reference: the same file undamaged loads."""
+    BadZipFile"; nor one that reads but does not hold steps 0 ... step and
+    that step's load factor (the resumed run repeated or skipped steps, or
+    started from NaN). Reference: the same file undamaged loads."""
     from wingcrack import cli
     from wingcrack.case import Case
     from wingcrack.propagation import checkpoint
@@ -207,13 +256,33 @@ def test_resume_from_a_damaged_checkpoint_exits_2_naming_it(tmp_path, capsys, da
     case = Case.from_toml(path)
     out = tmp_path / "out"
     out.mkdir()
-    checkpoint.save(out, case, 0, FractureSet.from_case(case), 1.0, [], None)
-    assert checkpoint.load(out, case)["step"] == 0
+    checkpoint.save(out, case, 1, FractureSet.from_case(case), 1.0,
+                    [{"step": 0, "load_factor": 0.5}, {"step": 1, "load_factor": 1.0}], None)
+    assert checkpoint.load(out, case)["step"] == 1
     damage(out / checkpoint.NAME)
     assert cli.main(["run", str(path), "-o", str(out), "--resume", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and "unexpected" not in err, err
     assert err.startswith(f"wingcrack: error: {out}: {out / checkpoint.NAME} cannot be read as a checkpoint ("), err
+
+
+@pytest.mark.parametrize("kind", ["folder", "fifo"])
+def test_resume_from_a_checkpoint_that_is_not_a_file_says_so(tmp_path, capsys, kind):
+    """A checkpoint.npz that is a folder or a FIFO was reported as "does not
+    exist: nothing to resume"; it exists, and is not a regular file."""
+    import os
+
+    from wingcrack import cli
+    from wingcrack.propagation import checkpoint
+
+    path = write_case(tmp_path / "case.toml", steps=3)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / checkpoint.NAME).mkdir() if kind == "folder" else os.mkfifo(out / checkpoint.NAME)
+    assert cli.main(["run", str(path), "-o", str(out), "--resume", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err == f"wingcrack: error: {out}: {out / checkpoint.NAME} is not a regular file: it cannot be a " \
+                  "checkpoint; start the run again without --resume (with --force)\n", err
 
 
 def test_sigterm_stops_like_ctrl_c_and_resumes(tmp_path):

@@ -156,10 +156,18 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
             raise FolderError(Path(out), "does not exist: nothing to resume")
         check_writable(out)
         try:
-            checkpoint.load(out, case)
+            state = checkpoint.load(out, case)
         except ValueError as err:
             raise FolderError(Path(out), str(err)) from None
         out = Path(out)
+        from .io.outdir import faces_name, fields_name
+
+        # the finished steps' files: without one, the resumed result would have a hole
+        for k in range(len(state["steps"])):
+            for name in (fields_name(k), faces_name(k)):
+                if not (out / name).is_file():
+                    raise FolderError(out, f"{name} of finished step {k} is missing: the result cannot be "
+                                           "completed; start the run again without --resume (with --force)")
     elif out is not None:
         out = _prepare_out(out, force)
     draw = out is not None and MPI.COMM_WORLD.rank == 0

@@ -30,6 +30,7 @@ import os
 import stat
 import tomllib
 import typing
+import unicodedata
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -107,7 +108,7 @@ class Range:
     note: str = ""
 
     def check(self, x, key: str, what: str = "") -> None:
-        got = f"{x:g}" if isinstance(x, float) else str(x)
+        got = _shown(x) if isinstance(x, float) else str(x)
         lo, hi = self.lo, self.hi
         if lo is not None and hi is not None and self.open:
             if not lo < x < hi:
@@ -117,6 +118,18 @@ class Range:
             raise CaseError(key, f"{what}must be {'>' if self.open else '>='} {lo:g}{self.note}, got {got}")
         if hi is not None and not (x < hi if self.open else x <= hi):
             raise CaseError(key, f"{what}must be {'<' if self.open else '<='} {hi:g}{self.note}, got {got}")
+
+
+def _shown(x) -> str:
+    """A refused number as %g, or with the digits it takes to be exact: a value
+    just beyond a bound (E = 1.0000001e13) must not read as the bound itself
+    ("got 1e+13")."""
+    x = float(x)
+    for digits in range(6, 18):
+        text = f"{x:.{digits}g}"
+        if float(text) == x:
+            return text
+    return repr(x)
 
 
 POSITIVE = Range(0, open=True)
@@ -146,10 +159,10 @@ class Limit:
             return
         unit = f" {unit}" if unit else ""
         if self.lo > 0:
-            raise CaseError(key, f"must lie within {self.lo:g} .. {self.hi:g}{unit} ({self.why}), got {x:g}")
+            raise CaseError(key, f"must lie within {self.lo:g} .. {self.hi:g}{unit} ({self.why}), got {_shown(x)}")
         bound = f"{self.bound} = {self.hi * scale:.4g}{unit}" if self.of else f"{self.hi:g}{unit}"
         size = " in magnitude" if signed else ""
-        raise CaseError(key, f"must be at most {bound}{size} ({self.why}), got {x:g}")
+        raise CaseError(key, f"must be at most {bound}{size} ({self.why}), got {_shown(x)}")
 
     @property
     def bound(self) -> str:
@@ -398,7 +411,8 @@ class Propagation:
 TOP_KEYS = (
     Key("title", STRING, "", default_doc="the file name without `.toml` (`Case.from_dict` gives `\"\"`)",
         doc="The name shown in `check`, in pictures and in `summary.json`.",
-        limit=Limit(hi=200, why="one line of a picture's title")),
+        limit=Limit(hi=200, why="one line of a picture's title"),
+        rule="no control characters (newline, tab, NUL)"),
     Key("material", TABLE, doc="See below."),
     Key("domain", TABLE, doc="See below."),
     Key("fractures", TABLES, None, default_doc="none", doc="Pre-existing fractures. A case with no fractures is valid.",
@@ -804,6 +818,10 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     top.refuse_unknown(DESCRIPTION["top"])
     section = {k.name: k for k in DESCRIPTION["top"]}  # each read in its turn: errors in reading order
     title = top.value(section["title"])
+    bad = next((c for c in title if unicodedata.category(c) in ("Cc", "Zl", "Zp")), None)
+    if bad is not None:
+        raise CaseError("title", f"one line of text, without control characters (it holds {ascii(bad)} at "
+                                 f"character {title.index(bad) + 1})")
 
     material = Material(**top.value(section["material"]).read(DESCRIPTION["material"]))
     domain = _parse_domain(top.value(section["domain"]))

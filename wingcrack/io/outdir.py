@@ -202,6 +202,9 @@ class StoredResult:
 
     def faces_of(self, k: int) -> "StepFaces":
         """The fracture faces of step k (from its face file)."""
+        if not self.summary.get("fractures"):
+            # a case without fractures: its face file has no cells, which meshio writes but cannot read
+            return StepFaces(np.zeros((0, 3, 2)), np.zeros(0, dtype=bool))
         mesh = _read(self.faces[k])
         line3 = _cells(mesh, "line3", self.faces[k])
         x = np.asarray(mesh.points)[:, :2]

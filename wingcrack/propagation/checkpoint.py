@@ -17,6 +17,7 @@ import dataclasses
 import hashlib
 import io
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -68,6 +69,9 @@ def load(out, case) -> dict:
     belongs to another case."""
     path = Path(out) / NAME
     if not path.is_file():
+        if path.exists():   # a folder, a FIFO: np.load would block on a FIFO
+            raise ValueError(f"{path} is not a regular file: it cannot be a checkpoint; "
+                             "start the run again without --resume (with --force)")
         raise ValueError(f"{path} does not exist: nothing to resume (was the run started with this -o?)")
     try:
         with np.load(path, allow_pickle=False) as data:
@@ -86,10 +90,25 @@ def load(out, case) -> dict:
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
                  "fset": FractureSet(fractures), "sizes": sizes}
+        _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "
                          "start the run again without --resume (with --force)") from None
     return state
+
+
+def _consistent(state) -> None:
+    """The records are steps 0 ... step, and the load factor is the last one's
+    (finite, >= 0): otherwise a resumed run would repeat or skip steps, or
+    start from a factor no step reached."""
+    steps, k, lam = state["steps"], state["step"], state["load_factor"]
+    for i, rec in enumerate(steps):
+        if not isinstance(rec, dict) or rec.get("step") != i:
+            raise ValueError(f"steps[{i}] is not the record of step {i}")
+    if k != len(steps) - 1:
+        raise ValueError(f"the last finished step is {k}, but it holds {len(steps)} step records")
+    if not (math.isfinite(lam) and lam >= 0) or lam != steps[-1].get("load_factor"):
+        raise ValueError(f"the load factor {lam!r} is not that of step {k}")
 
 
 def _points(p) -> np.ndarray:
