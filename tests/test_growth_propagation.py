@@ -174,3 +174,13 @@ def test_a_case_with_no_tip_that_may_grow_stops_at_once():
     r = run(Case.from_dict(d))
     assert r.status == NO_TIP_AT_ALL == "stopped: no tip can grow (no fracture has a free tip that may grow)"
     assert r.steps == []
+
+
+def test_a_run_of_zero_steps_is_not_finished(tmp_path):
+    """propagation.steps = 0: nothing is done, and the status says so
+    instead of "finished" (a run that did nothing is never finished)."""
+    from wingcrack.propagation.loop import NO_STEPS
+
+    r = run(tension_plate(steps=0), out=tmp_path / "r", plots=False)
+    assert r.status == NO_STEPS and r.steps == []
+    assert json.loads((tmp_path / "r" / "summary.json").read_text())["status"] == NO_STEPS

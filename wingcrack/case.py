@@ -373,7 +373,7 @@ class Propagation:
                         limit=Limit(hi=1.0, of="L", why="no step longer than the domain"))
     steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. A run whose every tip joined "
                      "another fracture or reached the boundary is `finished` earlier. With `0`, `run` "
-                     "does nothing (use `sif`).")
+                     "does nothing and says so (`stopped: propagation.steps = 0 ...`; use `sif`).")
     alpha: float = key(0.35, range=POSITIVE, doc="The growth-law exponent: L_i = Lmax (G_i / max G)^alpha over the "
                        "tips with K_eq >= KIc (relative tolerance 1e-3). A tip whose L_i < 0.4·`mesh.tip_size` does "
                        "not advance, unless it grows straight on.")

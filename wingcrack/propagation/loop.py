@@ -14,7 +14,8 @@ step and says "failed: <reason>". A step in which no tip moves ends the run
 whose every tip has joined another fracture or reached the boundary has
 completed its growth and is "finished" before propagation.steps (the disc's
 wings at the load points); a case with no tip that may grow at all stops
-with NO_TIP_AT_ALL.
+with NO_TIP_AT_ALL, and propagation.steps = 0 with NO_STEPS (a run that did
+nothing is never "finished").
 """
 from __future__ import annotations
 
@@ -35,6 +36,8 @@ from .fracture_set import FractureSet
 
 #: no fracture of the case has a free tip that may grow (every end a mouth, or grow = false)
 NO_TIP_AT_ALL = "stopped: no tip can grow (no fracture has a free tip that may grow)"
+#: propagation.steps = 0: no step was asked for (a run that did nothing is not "finished")
+NO_STEPS = "stopped: propagation.steps = 0 (no step asked for; `wingcrack sif` solves the initial geometry)"
 
 
 def no_tip_left(records) -> str:
@@ -139,6 +142,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
         if out is not None and comm.rank == 0:
             write_summary(out / "summary.json", summary_now(st))
 
+    if not records and first >= prop.steps:
+        status = NO_STEPS
     k = first
     for k in range(first, prop.steps):
         timer = step.Timer()
