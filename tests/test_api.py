@@ -240,3 +240,23 @@ def test_ctrl_c_while_the_pictures_are_drawn(tmp_path, monkeypatch, command):
     else:
         wingcrack.plot(out, history=False, animation=False)
     assert (out / "fractures.png").is_file()
+
+
+def test_the_api_refuses_what_is_not_a_case_or_a_folder_name(tmp_path, monkeypatch):
+    """A dict, a path or None instead of a Case, an empty folder name and a
+    progress that is no callable are refused at once with a clear error,
+    not an AttributeError from deep inside or a result in the current folder."""
+    from wingcrack.errors import CaseError, FolderError
+
+    case = plate(steps=1)
+    for wrong in ({"material": {}}, "cases/griffith_inclined.toml", None):
+        for f in (wingcrack.run, wingcrack.sif):
+            with pytest.raises(CaseError, match="expected a wingcrack.Case.*Case.from_toml"):
+                f(wrong)
+    monkeypatch.chdir(tmp_path)
+    for f in (wingcrack.run, wingcrack.sif, wingcrack.plot):
+        with pytest.raises(FolderError, match="empty folder name"):
+            f("  ") if f is wingcrack.plot else f(case, out="")
+    with pytest.raises(TypeError, match="progress: expected"):
+        wingcrack.run(case, progress=5)
+    assert list(tmp_path.iterdir()) == []

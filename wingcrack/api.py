@@ -43,6 +43,27 @@ class SifResult(LastSolve):
         return dataframe(tip_rows(self.summary.get("steps", [])))
 
 
+def _require_case(case) -> None:
+    """CaseError unless `case` is a wingcrack.Case (a dict, a path or None
+    would otherwise fail deep inside with an AttributeError)."""
+    from .case import Case
+    from .errors import CaseError
+
+    if not isinstance(case, Case):
+        raise CaseError("case", f"expected a wingcrack.Case, got {type(case).__name__} (build one with "
+                        "wingcrack.Case.from_toml(path) or wingcrack.Case.from_dict(table))")
+
+
+def _folder_name(out) -> None:
+    """FolderError for an output folder named by an empty or blank string:
+    Path("") is the current folder, where the result would land among
+    whatever is there (the command line refuses `-o ""` the same way)."""
+    from .errors import FolderError
+
+    if isinstance(out, str) and not out.strip():
+        raise FolderError(repr(out), "an empty folder name (it would mean the current folder; say . for that)")
+
+
 def _prepare_out(out, force: bool = False) -> Path:
     """io.outdir.prepare on rank 0; every rank raises its FolderError."""
     from mpi4py import MPI
@@ -83,7 +104,9 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     from .propagation.fracture_set import FractureSet
     from .propagation import interrupt
 
+    _require_case(case)
     if out is not None:
+        _folder_name(out)
         out = _prepare_out(out, force)
     writes = out is not None and MPI.COMM_WORLD.rank == 0
     pieces = FractureSet.from_case(case).summary()
@@ -145,6 +168,12 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
     from .errors import ComputationError
     from .propagation import loop
 
+    _require_case(case)
+    if not (progress is None or isinstance(progress, bool) or callable(progress)):
+        raise TypeError(f"progress: expected True, False, None or a callable progress(k, step), got "
+                        f"{type(progress).__name__}")
+    if out is not None:
+        _folder_name(out)
     if resume:
         from .errors import FolderError
         from .io.outdir import check_writable
@@ -225,6 +254,7 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     wingcrack result or cannot be written."""
     from .io.outdir import check_writable, read_result
 
+    _folder_name(folder)
     result = read_result(folder, summary=summary)
     folder = check_writable(folder)
     files = {}
