@@ -260,3 +260,22 @@ def test_the_api_refuses_what_is_not_a_case_or_a_folder_name(tmp_path, monkeypat
     with pytest.raises(TypeError, match="progress: expected"):
         wingcrack.run(case, progress=5)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_progress_callback_that_raises_keeps_the_committed_step(tmp_path):
+    """The caller's progress(k, step) runs after step k is committed: its
+    exception goes up unchanged (it was a "failed: step 1" ComputationError
+    that dropped step 1 from summary.json while the checkpoint kept it), and
+    the run resumes from there."""
+    case = plate(steps=3)
+
+    def progress(k, step):
+        if k == 1:
+            raise ValueError("the caller's bug")
+
+    with pytest.raises(ValueError, match="the caller's bug"):
+        wingcrack.run(case, out=tmp_path / "o", progress=progress, plots=False)
+    saved = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert saved["status"] == "running" and [s["step"] for s in saved["steps"]] == [0, 1]
+    r = wingcrack.run(case, out=tmp_path / "o", plots=False, resume=True)
+    assert r.status == "finished" and [s["step"] for s in r.steps] == [0, 1, 2]

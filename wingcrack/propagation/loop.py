@@ -200,8 +200,6 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 write("running")
                 if out is not None and comm.rank == 0:
                     checkpoint.save(out, case, k, fset, lam, [r.to_dict() for r in records], sizes)
-            if progress is not None:
-                progress(k, record.to_dict())
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
             write(status)
@@ -212,6 +210,15 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 records.pop()
             write(status)
             raise ComputationError(status) from None
+        if progress is not None:
+            # the caller's code, after step k is committed: its own exception goes up unchanged (not a
+            # failure of the computation, and step k stays in summary.json and the checkpoint)
+            try:
+                progress(k, record.to_dict())
+            except KeyboardInterrupt as err:
+                status = interrupt.stop_status(err)
+                write(status)
+                raise
     if finishing is not None:
         try:
             warnings.extend(finishing(summary_now(status)))
