@@ -187,7 +187,7 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
         try:
             checkpoint.load(out, case)
         except ValueError as err:
-            raise FolderError(Path(out), str(err)) from None
+            raise FolderError(Path(out), _no_checkpoint(out) or str(err)) from None
         out = Path(out)
     elif out is not None:
         out = _prepare_out(out, force)
@@ -215,6 +215,24 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
         raise
     result.files.update(pictures)
     return result
+
+
+def _no_checkpoint(out) -> str | None:
+    """Why a folder that holds a result but no checkpoint cannot be resumed:
+    its run ended before committing a step (a step that stops the run is
+    recorded, not checkpointed). None when that is not the case."""
+    import json
+
+    from .io.outdir import CHECKPOINT, SUMMARY
+
+    if (Path(out) / CHECKPOINT).exists():
+        return None
+    try:
+        status = json.loads((Path(out) / SUMMARY).read_text())["status"]
+    except Exception:  # noqa: BLE001 - no readable summary: the generic message
+        return None
+    return (f"holds a result that ended \"{status}\" before any step was committed (no checkpoint.npz): nothing to "
+            "resume; run it again without --resume (with --force)")
 
 
 def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -> list:
