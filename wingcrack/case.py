@@ -654,6 +654,8 @@ class _Table:
         """Refuse any key not among `keys`, suggesting the closest one."""
         allowed = [k.name for k in keys]
         for k in self.data:
+            if not isinstance(k, str):   # Case.from_dict: a TOML key is always a string
+                raise CaseError(self.key(repr(k)), f"unknown key (keys are strings, got {_what(k)})")
             if k not in allowed:
                 near = difflib.get_close_matches(k, allowed, n=1)
                 hint = f" (did you mean {near[0]}?)" if near else ""
