@@ -279,3 +279,31 @@ def test_a_progress_callback_that_raises_keeps_the_committed_step(tmp_path):
     assert saved["status"] == "running" and [s["step"] for s in saved["steps"]] == [0, 1]
     r = wingcrack.run(case, out=tmp_path / "o", plots=False, resume=True)
     assert r.status == "finished" and [s["step"] for s in r.steps] == [0, 1, 2]
+
+
+def test_the_api_locks_its_folder_as_the_command_line_does(tmp_path):
+    """wingcrack.run / sif / plot from Python hold the folder's lock (as the
+    commands do): while another process holds it, each is refused at once
+    with FolderError "is in use", and nothing is written there."""
+    import subprocess
+    import sys
+
+    from wingcrack.errors import FolderError
+
+    out = tmp_path / "o"
+    out.mkdir()
+    holder = subprocess.Popen([sys.executable, "-c", "import fcntl, os, sys, time; fd = os.open(sys.argv[1], "
+                               "os.O_RDONLY); fcntl.flock(fd, fcntl.LOCK_EX); print('held', flush=True); "
+                               "time.sleep(60)", str(out)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        case = plate(steps=1)
+        for call in (lambda: wingcrack.run(case, out=out), lambda: wingcrack.sif(case, out=out),
+                     lambda: wingcrack.plot(out)):
+            with pytest.raises(FolderError, match=f"in use by another wingcrack run \\(pid {holder.pid}\\)"):
+                call()
+        assert list(out.iterdir()) == []
+    finally:
+        holder.kill()
+        holder.wait()
+    assert wingcrack.sif(plate(steps=1), out=out).summary["status"] == "finished"

@@ -97,6 +97,14 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     "failed: step 0: <reason>". A picture that cannot be drawn is a warning
     in summary.json ("warnings"), not a failure.
     """
+    _require_case(case)
+    if out is not None:
+        _folder_name(out)
+    with _folder_lock(out, create=True):
+        return _sif(case, out, force)
+
+
+def _sif(case, out, force) -> SifResult:
     from mpi4py import MPI
 
     from .errors import ComputationError
@@ -104,9 +112,7 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     from .propagation.fracture_set import FractureSet
     from .propagation import interrupt
 
-    _require_case(case)
     if out is not None:
-        _folder_name(out)
         out = _prepare_out(out, force)
     writes = out is not None and MPI.COMM_WORLD.rank == 0
     pieces = FractureSet.from_case(case).summary()
@@ -163,17 +169,39 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
     Ctrl-C stops with status "stopped: interrupted" and re-raises
     KeyboardInterrupt; every finished step is kept (also when it comes
     while the pictures are drawn: `wingcrack plot OUT` draws them)."""
-    from mpi4py import MPI
-
-    from .errors import ComputationError
-    from .propagation import loop
-
     _require_case(case)
     if not (progress is None or isinstance(progress, bool) or callable(progress)):
         raise TypeError(f"progress: expected True, False, None or a callable progress(k, step), got "
                         f"{type(progress).__name__}")
     if out is not None:
         _folder_name(out)
+    with _folder_lock(out, create=not resume):
+        return _run(case, out, progress, plots, force, resume)
+
+
+def _folder_lock(folder, create: bool):
+    """The lock of the result folder (io.outdir.locked, re-entrant: the
+    command line holds it already) for a whole sif, run or plot called from
+    Python, so that a second one into the same folder, from another
+    process, is refused (FolderError "is in use") instead of mixing its
+    files with the first's. Nothing without a folder."""
+    import contextlib
+
+    if folder is None:
+        return contextlib.nullcontext()
+    from mpi4py import MPI
+
+    from .io.outdir import locked
+
+    return locked(folder, create=create, comm=MPI.COMM_WORLD)
+
+
+def _run(case, out, progress, plots, force, resume):
+    from mpi4py import MPI
+
+    from .errors import ComputationError
+    from .propagation import loop
+
     if resume:
         from .errors import FolderError
         from .io.outdir import check_writable
@@ -270,9 +298,14 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     Only these pictures are (re)written: they are views of the data, which
     is never touched. Raises FolderError when `folder` is missing, is not a
     wingcrack result or cannot be written."""
+    _folder_name(folder)
+    with _folder_lock(folder, create=False):
+        return _plot(folder, history, animation, fmt, summary, failed)
+
+
+def _plot(folder, history, animation, fmt, summary, failed) -> dict:
     from .io.outdir import check_writable, read_result
 
-    _folder_name(folder)
     result = read_result(folder, summary=summary)
     folder = check_writable(folder)
     files = {}
