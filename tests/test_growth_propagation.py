@@ -184,3 +184,21 @@ def test_a_run_of_zero_steps_is_not_finished(tmp_path):
     r = run(tension_plate(steps=0), out=tmp_path / "r", plots=False)
     assert r.status == NO_STEPS and r.steps == []
     assert json.loads((tmp_path / "r" / "summary.json").read_text())["status"] == NO_STEPS
+
+
+def test_a_run_stopped_on_the_load_limit_shows_no_unrecorded_solve():
+    """A compressed frictionless crack whose critical load rises (2.57, then
+    3.01), limited to 2.8: step 0 is recorded and step 1 stops. The result's
+    mesh and displacement were the limit search's trial solve on the grown,
+    unrecorded geometry, next to tips of step 0; now there is none."""
+    d = {"material": {"E": 10e9, "nu": 0.25, "KIc": 1e6},
+         "domain": {"shape": "rectangle", "corner": [-1.0, -1.0], "size": [2.0, 2.0]},
+         "fractures": [{"points": [[-0.1, -0.1], [0.1, 0.1]], "faces": "frictionless"}],
+         "bc": [{"on": "top", "traction": [0.0, -1e6]}, {"on": "bottom", "traction": [0.0, 1e6]},
+                {"at": [-1.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [1.0, 0.0], "displacement_y": 0.0}],
+         "mesh": {"size": 0.25, "tip_size": 0.02, "sectors": 16},
+         "propagation": {"steps": 3, "length": 0.02, "max_load_factor": 2.8}}
+    r = run(Case.from_dict(d))
+    assert r.status == "stopped: no tip reaches KIc below the load factor limit 2.8" and len(r.steps) == 1
+    assert r.mesh is None and r.displacement is None and r.dolfinx_mesh is None
+    assert len(r.tips) == 2

@@ -51,7 +51,10 @@ def no_tip_left(records) -> str:
 class RunResult(LastSolve):
     """A propagation run: status, steps (dicts as in summary.json), the final
     fracture set, and the last step's crack mesh, problem and contact.
-    .tips, .polylines, .to_dataframe(), .dolfinx_mesh, .displacement."""
+    .tips, .polylines, .to_dataframe(), .dolfinx_mesh, .displacement. mesh,
+    problem, contact, .dolfinx_mesh and .displacement are None when the run
+    ended on a geometry it did not record (stopped on the load factor limit:
+    the search's trial solve is no step)."""
     status: str
     steps: list
     fractures: FractureSet
@@ -123,6 +126,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     lam = 0.0 if prop.load == "scale" else 1.0
     records, status = [], "finished"
     disc = None
+    shown = None   # the discretisation of the last recorded step, while it is not released
     sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
     first = 0
     if resume:
@@ -153,7 +157,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 status = no_tip_left(records)
                 break
             _release(disc)   # the previous step's factors and forms
-            disc = None
+            disc = shown = None
             disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout)
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
@@ -179,6 +183,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 # the solved step is a result too: recorded with its files, no growth
                 status = "stopped: no tip reaches KIc under the fixed load"
                 records.append(step.finish(out, k, lam, disc, tips, timer, solves=1))
+                shown = disc
                 break
             grown = growth.grow(fset, candidates, len(tips), rule, case.domain)
             timer.lap("growth")
@@ -188,6 +193,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 # checkpointed: a resumed run solves it again and stops the same way)
                 status = f"stopped: no tip can grow ({grown.why_none()})"
                 records.append(step.finish(out, k, lam, disc, tips, timer, solves=solves))
+                shown = disc
                 break
             if case.mesh.adaptive:
                 sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
@@ -196,6 +202,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
+                shown = disc
                 done = fset.copy()
                 write("running")
                 if out is not None and comm.rank == 0:
@@ -228,8 +235,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             raise
     write(status)
     result = RunResult(status, [r.to_dict() for r in records], fset, summary_now(status), out,
-                       mesh=None if disc is None else disc.cm, problem=None if disc is None else disc.problem,
-                       contact=None if disc is None else disc.contact)
+                       mesh=None if shown is None else shown.cm, problem=None if shown is None else shown.problem,
+                       contact=None if shown is None else shown.contact)
     if out is not None:
         result.files = step.files_of(out, len(records))
     return result
