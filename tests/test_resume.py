@@ -261,6 +261,9 @@ def test_resume_of_a_run_that_stopped_at_step_0_says_why(tmp_path):
     case = wingcrack.Case.from_dict(d)
     r = wingcrack.run(case, out=tmp_path / "o", plots=False)
     assert r.status == "stopped: no tip reaches KIc under the fixed load"
-    with pytest.raises(FolderError, match="ended \"stopped: no tip reaches KIc under the fixed load\" before any "
-                                          "step was committed"):
+    with pytest.raises(FolderError, match="result \\(\"stopped: no tip reaches KIc under the fixed load\"\\) "
+                                          "without checkpoint.npz: no step of a run was committed"):
         wingcrack.run(case, out=tmp_path / "o", resume=True)
+    wingcrack.sif(case, out=tmp_path / "s")
+    with pytest.raises(FolderError, match="a `sif` result"):
+        wingcrack.run(case, out=tmp_path / "s", resume=True)

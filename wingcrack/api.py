@@ -259,8 +259,9 @@ def _no_checkpoint(out) -> str | None:
         status = json.loads((Path(out) / SUMMARY).read_text())["status"]
     except Exception:  # noqa: BLE001 - no readable summary: the generic message
         return None
-    return (f"holds a result that ended \"{status}\" before any step was committed (no checkpoint.npz): nothing to "
-            "resume; run it again without --resume (with --force)")
+    return (f"holds a result (\"{status}\") without checkpoint.npz: no step of a run was committed there (a `sif` "
+            "result, or a run that stopped in its first step), so nothing to resume; run it again without --resume "
+            "(with --force)")
 
 
 def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -> list:
