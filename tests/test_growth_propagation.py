@@ -202,3 +202,17 @@ def test_a_run_stopped_on_the_load_limit_shows_no_unrecorded_solve():
     assert r.status == "stopped: no tip reaches KIc below the load factor limit 2.8" and len(r.steps) == 1
     assert r.mesh is None and r.displacement is None and r.dolfinx_mesh is None
     assert len(r.tips) == 2
+
+
+def test_the_load_limit_status_says_when_nothing_scales():
+    """Only an in-situ stress (not scaled) and zero displacements: the load
+    factor multiplies nothing, and the status says so (it read as if a
+    larger max_load_factor could help)."""
+    from wingcrack.propagation.loop import NOTHING_SCALES
+
+    d = square_plate_with_cracks(L, [[[-A, 0.0], [A, 0.0]]], (0.0, 1e4, 0.0), size=10 * A, tip_size=0.05)
+    d["propagation"] = {"steps": 2, "length": 0.1}
+    r = run(Case.from_dict(d))
+    assert r.status == "stopped: no tip reaches KIc below the load factor limit 100" + NOTHING_SCALES
+    assert r.steps == []
+    assert not run(tension_plate(max_load_factor=1.0)).status.endswith(NOTHING_SCALES)

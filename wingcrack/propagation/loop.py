@@ -40,6 +40,16 @@ NO_TIP_AT_ALL = "stopped: no tip can grow (no fracture has a free tip that may g
 NO_STEPS = "stopped: propagation.steps = 0 (no step asked for; `wingcrack sif` solves the initial geometry)"
 
 
+#: added to the load-limit status of a case in which the load factor multiplies nothing
+NOTHING_SCALES = (" (nothing in the case scales with it: every [[bc]] value and slip is 0, and the in-situ stress "
+                  "and gravity are not scaled)")
+
+
+def _scaled_load(case) -> bool:
+    """Does the load factor multiply anything (a non-zero bc value or slip)?"""
+    return any(any(b.value) for b in case.bcs) or any(f.slip for f in case.fractures)
+
+
 def no_tip_left(records) -> str:
     """The status of a run in which no free tip that may grow is left: the
     growth is complete ("finished") when steps were done (every tip joined or
@@ -167,7 +177,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             if prop.load == "scale":
                 crit = _critical_load(case, disc, fset, grow, lam)
                 if crit.load_factor is None:
-                    status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}"
+                    status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}" \
+                        + ("" if _scaled_load(case) else NOTHING_SCALES)
                     break
                 lam, solves = crit.load_factor, int(crit.solves)
             else:
