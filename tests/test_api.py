@@ -282,7 +282,7 @@ def test_a_progress_callback_that_raises_keeps_the_committed_step(tmp_path):
 
 
 def test_the_api_locks_its_folder_as_the_command_line_does(tmp_path):
-    """wingcrack.run / sif / plot from Python hold the folder's lock (as the
+    """wingcrack.run / sif from Python hold the folder's lock (as the
     commands do): while another process holds it, each is refused at once
     with FolderError "is in use", and nothing is written there."""
     import subprocess
@@ -298,8 +298,7 @@ def test_the_api_locks_its_folder_as_the_command_line_does(tmp_path):
     try:
         assert holder.stdout.readline().strip() == "held"
         case = plate(steps=1)
-        for call in (lambda: wingcrack.run(case, out=out), lambda: wingcrack.sif(case, out=out),
-                     lambda: wingcrack.plot(out)):
+        for call in (lambda: wingcrack.run(case, out=out), lambda: wingcrack.sif(case, out=out)):
             with pytest.raises(FolderError, match=f"in use by another wingcrack run \\(pid {holder.pid}\\)"):
                 call()
         assert list(out.iterdir()) == []

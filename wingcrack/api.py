@@ -181,8 +181,8 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
 
 def _folder_lock(folder, create: bool):
     """The lock of the result folder (io.outdir.locked, re-entrant: the
-    command line holds it already) for a whole sif, run or plot called from
-    Python, so that a second one into the same folder, from another
+    command line holds it already) for a whole sif or run called from
+    Python (collective under MPI, as they are), so that a second one into the same folder, from another
     process, is refused (FolderError "is in use") instead of mixing its
     files with the first's. Nothing without a folder."""
     import contextlib
@@ -299,14 +299,9 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     Only these pictures are (re)written: they are views of the data, which
     is never touched. Raises FolderError when `folder` is missing, is not a
     wingcrack result or cannot be written."""
-    _folder_name(folder)
-    with _folder_lock(folder, create=False):
-        return _plot(folder, history, animation, fmt, summary, failed)
-
-
-def _plot(folder, history, animation, fmt, summary, failed) -> dict:
     from .io.outdir import check_writable, read_result
 
+    _folder_name(folder)   # not locked here: run and sif call it on rank 0 only, inside their lock
     result = read_result(folder, summary=summary)
     folder = check_writable(folder)
     files = {}
