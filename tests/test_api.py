@@ -240,3 +240,69 @@ def test_ctrl_c_while_the_pictures_are_drawn(tmp_path, monkeypatch, command):
     else:
         wingcrack.plot(out, history=False, animation=False)
     assert (out / "fractures.png").is_file()
+
+
+def test_the_api_refuses_what_is_not_a_case_or_a_folder_name(tmp_path, monkeypatch):
+    """A dict, a path or None instead of a Case, an empty folder name and a
+    progress that is no callable are refused at once with a clear error,
+    not an AttributeError from deep inside or a result in the current folder."""
+    from wingcrack.errors import CaseError, FolderError
+
+    case = plate(steps=1)
+    for wrong in ({"material": {}}, "cases/griffith_inclined.toml", None):
+        for f in (wingcrack.run, wingcrack.sif):
+            with pytest.raises(CaseError, match="expected a wingcrack.Case.*Case.from_toml"):
+                f(wrong)
+    monkeypatch.chdir(tmp_path)
+    for f in (wingcrack.run, wingcrack.sif, wingcrack.plot):
+        with pytest.raises(FolderError, match="empty folder name"):
+            f("  ") if f is wingcrack.plot else f(case, out="")
+    with pytest.raises(TypeError, match="progress: expected"):
+        wingcrack.run(case, progress=5)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_progress_callback_that_raises_keeps_the_committed_step(tmp_path):
+    """The caller's progress(k, step) runs after step k is committed: its
+    exception goes up unchanged (it was a "failed: step 1" ComputationError
+    that dropped step 1 from summary.json while the checkpoint kept it), and
+    the run resumes from there."""
+    case = plate(steps=3)
+
+    def progress(k, step):
+        if k == 1:
+            raise ValueError("the caller's bug")
+
+    with pytest.raises(ValueError, match="the caller's bug"):
+        wingcrack.run(case, out=tmp_path / "o", progress=progress, plots=False)
+    saved = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert saved["status"] == "running" and [s["step"] for s in saved["steps"]] == [0, 1]
+    r = wingcrack.run(case, out=tmp_path / "o", plots=False, resume=True)
+    assert r.status == "finished" and [s["step"] for s in r.steps] == [0, 1, 2]
+
+
+def test_the_api_locks_its_folder_as_the_command_line_does(tmp_path):
+    """wingcrack.run / sif from Python hold the folder's lock (as the
+    commands do): while another process holds it, each is refused at once
+    with FolderError "is in use", and nothing is written there."""
+    import subprocess
+    import sys
+
+    from wingcrack.errors import FolderError
+
+    out = tmp_path / "o"
+    out.mkdir()
+    holder = subprocess.Popen([sys.executable, "-c", "import fcntl, os, sys, time; fd = os.open(sys.argv[1], "
+                               "os.O_RDONLY); fcntl.flock(fd, fcntl.LOCK_EX); print('held', flush=True); "
+                               "time.sleep(60)", str(out)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        case = plate(steps=1)
+        for call in (lambda: wingcrack.run(case, out=out), lambda: wingcrack.sif(case, out=out)):
+            with pytest.raises(FolderError, match=f"in use by another wingcrack run \\(pid {holder.pid}\\)"):
+                call()
+        assert list(out.iterdir()) == []
+    finally:
+        holder.kill()
+        holder.wait()
+    assert wingcrack.sif(plate(steps=1), out=out).summary["status"] == "finished"

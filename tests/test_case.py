@@ -577,3 +577,12 @@ def test_every_key_of_the_description_is_read():
     f, g = given_all.fractures[1], defaults.fractures[1]
     names = [k.name for k in DESCRIPTION["fractures"] if k.name != "points"]
     assert [getattr(f, n) for n in names] == [getattr(g, n) for n in names]
+
+
+def test_from_dict_refuses_a_key_that_is_not_a_string():
+    """Case.from_dict of a table with an int key: a CaseError naming it, not
+    a TypeError from difflib's suggestion."""
+    d = copy.deepcopy(BASE)
+    d["material"][5] = 1.0
+    err = _error(d)
+    assert err.key == "material.5" and "keys are strings" in err.reason

@@ -174,3 +174,45 @@ def test_a_case_with_no_tip_that_may_grow_stops_at_once():
     r = run(Case.from_dict(d))
     assert r.status == NO_TIP_AT_ALL == "stopped: no tip can grow (no fracture has a free tip that may grow)"
     assert r.steps == []
+
+
+def test_a_run_of_zero_steps_is_not_finished(tmp_path):
+    """propagation.steps = 0: nothing is done, and the status says so
+    instead of "finished" (a run that did nothing is never finished)."""
+    from wingcrack.propagation.loop import NO_STEPS
+
+    r = run(tension_plate(steps=0), out=tmp_path / "r", plots=False)
+    assert r.status == NO_STEPS and r.steps == []
+    assert json.loads((tmp_path / "r" / "summary.json").read_text())["status"] == NO_STEPS
+
+
+def test_a_run_stopped_on_the_load_limit_shows_no_unrecorded_solve():
+    """A compressed frictionless crack whose critical load rises (2.57, then
+    3.01), limited to 2.8: step 0 is recorded and step 1 stops. The result's
+    mesh and displacement were the limit search's trial solve on the grown,
+    unrecorded geometry, next to tips of step 0; now there is none."""
+    d = {"material": {"E": 10e9, "nu": 0.25, "KIc": 1e6},
+         "domain": {"shape": "rectangle", "corner": [-1.0, -1.0], "size": [2.0, 2.0]},
+         "fractures": [{"points": [[-0.1, -0.1], [0.1, 0.1]], "faces": "frictionless"}],
+         "bc": [{"on": "top", "traction": [0.0, -1e6]}, {"on": "bottom", "traction": [0.0, 1e6]},
+                {"at": [-1.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [1.0, 0.0], "displacement_y": 0.0}],
+         "mesh": {"size": 0.25, "tip_size": 0.02, "sectors": 16},
+         "propagation": {"steps": 3, "length": 0.02, "max_load_factor": 2.8}}
+    r = run(Case.from_dict(d))
+    assert r.status == "stopped: no tip reaches KIc below the load factor limit 2.8" and len(r.steps) == 1
+    assert r.mesh is None and r.displacement is None and r.dolfinx_mesh is None
+    assert len(r.tips) == 2
+
+
+def test_the_load_limit_status_says_when_nothing_scales():
+    """Only an in-situ stress (not scaled) and zero displacements: the load
+    factor multiplies nothing, and the status says so (it read as if a
+    larger max_load_factor could help)."""
+    from wingcrack.propagation.loop import NOTHING_SCALES
+
+    d = square_plate_with_cracks(L, [[[-A, 0.0], [A, 0.0]]], (0.0, 1e4, 0.0), size=10 * A, tip_size=0.05)
+    d["propagation"] = {"steps": 2, "length": 0.1}
+    r = run(Case.from_dict(d))
+    assert r.status == "stopped: no tip reaches KIc below the load factor limit 100" + NOTHING_SCALES
+    assert r.steps == []
+    assert not run(tension_plate(max_load_factor=1.0)).status.endswith(NOTHING_SCALES)

@@ -114,3 +114,15 @@ def test_the_command_line_says_it_once(tmp_path, command):
     saved = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert saved["warnings"] == [lines[0].removeprefix("wingcrack: warning: ")]
     assert sum(len(s["warnings"]) for s in saved["steps"]) == 2 * len(saved["steps"])
+
+
+def test_a_warning_just_above_1_percent_does_not_read_1_percent():
+    """The 4.4 case's tips differ by 1.04 %: the line said "differ by 1 % of
+    K" under a "more than 1 %" rule; it gives three digits."""
+    from types import SimpleNamespace
+
+    from wingcrack.step import sif_warnings
+
+    tip = SimpleNamespace(fracture=2, end=0, KI=0.0, KII=-1.0104e6, KI_M=0.0, KII_M=-1.0e6)
+    (line,) = sif_warnings([tip])
+    assert "differ by 1.04 % of K" in line

@@ -169,3 +169,19 @@ if MPI.COMM_WORLD.rank == 0:
                           env=mpi_env(), timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().splitlines()[-1] == "['raised True', 'raised True']", proc.stdout
+
+
+def test_api_run_then_sif_in_one_script_on_two_ranks(tmp_path):
+    """wingcrack.run and wingcrack.sif from one Python script under mpirun,
+    each with its folder locked (collectively): run draws its pictures on
+    rank 0 only, so nothing inside may be collective (a lock taken there
+    desynchronised the ranks, and the following sif failed)."""
+    case = with_steps("griffith_inclined.toml", 1, tmp_path / "g.toml")
+    script = ("import sys, wingcrack\n"
+              "c = wingcrack.Case.from_toml(sys.argv[1])\n"
+              "print(wingcrack.run(c, out=sys.argv[2] + '/run', plots=False).status)\n"
+              "print(wingcrack.sif(c, out=sys.argv[2] + '/sif').summary['status'])\n")
+    proc = subprocess.run([MPIRUN, "-n", "2", sys.executable, "-c", script, str(case), str(tmp_path)],
+                          capture_output=True, text=True, env=mpi_env(), timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["finished"] * 4

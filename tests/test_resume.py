@@ -312,3 +312,27 @@ def test_sigterm_stops_like_ctrl_c_and_resumes(tmp_path):
     def physics(steps):
         return [{k: v for k, v in st.items() if k != "seconds"} for st in steps]
     assert physics(r["steps"][:kept]) == physics(s["steps"])
+
+
+def test_resume_of_a_run_that_stopped_at_step_0_says_why(tmp_path):
+    """A run stopped in its first step (here: the fixed load is below KIc)
+    keeps step 0 without a checkpoint; --resume says so instead of asking
+    whether the run was started with this -o."""
+    import pytest
+
+    import wingcrack
+    from builders import square_plate_with_cracks
+    from wingcrack.errors import FolderError
+
+    d = square_plate_with_cracks(4.0, [[[-0.5, 0.0], [0.5, 0.0]]], (0.0, 0.0, 0.0), size=0.5, tip_size=0.05)
+    d["bc"] += [{"on": "top", "traction": [0.0, 1e3]}, {"on": "bottom", "traction": [0.0, -1e3]}]
+    d["propagation"] = {"steps": 3, "length": 0.1, "load": "fixed"}
+    case = wingcrack.Case.from_dict(d)
+    r = wingcrack.run(case, out=tmp_path / "o", plots=False)
+    assert r.status == "stopped: no tip reaches KIc under the fixed load"
+    with pytest.raises(FolderError, match="result \\(\"stopped: no tip reaches KIc under the fixed load\"\\) "
+                                          "without checkpoint.npz: no step of a run was committed"):
+        wingcrack.run(case, out=tmp_path / "o", resume=True)
+    wingcrack.sif(case, out=tmp_path / "s")
+    with pytest.raises(FolderError, match="a `sif` result"):
+        wingcrack.run(case, out=tmp_path / "s", resume=True)

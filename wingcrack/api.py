@@ -43,6 +43,27 @@ class SifResult(LastSolve):
         return dataframe(tip_rows(self.summary.get("steps", [])))
 
 
+def _require_case(case) -> None:
+    """CaseError unless `case` is a wingcrack.Case (a dict, a path or None
+    would otherwise fail deep inside with an AttributeError)."""
+    from .case import Case
+    from .errors import CaseError
+
+    if not isinstance(case, Case):
+        raise CaseError("case", f"expected a wingcrack.Case, got {type(case).__name__} (build one with "
+                        "wingcrack.Case.from_toml(path) or wingcrack.Case.from_dict(table))")
+
+
+def _folder_name(out) -> None:
+    """FolderError for an output folder named by an empty or blank string:
+    Path("") is the current folder, where the result would land among
+    whatever is there (the command line refuses `-o ""` the same way)."""
+    from .errors import FolderError
+
+    if isinstance(out, str) and not out.strip():
+        raise FolderError(repr(out), "an empty folder name (it would mean the current folder; say . for that)")
+
+
 def _prepare_out(out, force: bool = False) -> Path:
     """io.outdir.prepare on rank 0; every rank raises its FolderError."""
     from mpi4py import MPI
@@ -76,6 +97,14 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     "failed: step 0: <reason>". A picture that cannot be drawn is a warning
     in summary.json ("warnings"), not a failure.
     """
+    _require_case(case)
+    if out is not None:
+        _folder_name(out)
+    with _folder_lock(out, create=True):
+        return _sif(case, out, force)
+
+
+def _sif(case, out, force) -> SifResult:
     from mpi4py import MPI
 
     from .errors import ComputationError
@@ -140,6 +169,34 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
     Ctrl-C stops with status "stopped: interrupted" and re-raises
     KeyboardInterrupt; every finished step is kept (also when it comes
     while the pictures are drawn: `wingcrack plot OUT` draws them)."""
+    _require_case(case)
+    if not (progress is None or isinstance(progress, bool) or callable(progress)):
+        raise TypeError(f"progress: expected True, False, None or a callable progress(k, step), got "
+                        f"{type(progress).__name__}")
+    if out is not None:
+        _folder_name(out)
+    with _folder_lock(out, create=not resume):
+        return _run(case, out, progress, plots, force, resume)
+
+
+def _folder_lock(folder, create: bool):
+    """The lock of the result folder (io.outdir.locked, re-entrant: the
+    command line holds it already) for a whole sif or run called from
+    Python (collective under MPI, as they are), so that a second one into the same folder, from another
+    process, is refused (FolderError "is in use") instead of mixing its
+    files with the first's. Nothing without a folder."""
+    import contextlib
+
+    if folder is None:
+        return contextlib.nullcontext()
+    from mpi4py import MPI
+
+    from .io.outdir import locked
+
+    return locked(folder, create=create, comm=MPI.COMM_WORLD)
+
+
+def _run(case, out, progress, plots, force, resume):
     from mpi4py import MPI
 
     from .errors import ComputationError
@@ -158,7 +215,7 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
         try:
             state = checkpoint.load(out, case)
         except ValueError as err:
-            raise FolderError(Path(out), str(err)) from None
+            raise FolderError(Path(out), _no_checkpoint(out) or str(err)) from None
         out = Path(out)
         from .io.outdir import faces_name, fields_name
 
@@ -194,6 +251,25 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
         raise
     result.files.update(pictures)
     return result
+
+
+def _no_checkpoint(out) -> str | None:
+    """Why a folder that holds a result but no checkpoint cannot be resumed:
+    its run ended before committing a step (a step that stops the run is
+    recorded, not checkpointed). None when that is not the case."""
+    import json
+
+    from .io.outdir import CHECKPOINT, SUMMARY
+
+    if (Path(out) / CHECKPOINT).exists():
+        return None
+    try:
+        status = json.loads((Path(out) / SUMMARY).read_text())["status"]
+    except Exception:  # noqa: BLE001 - no readable summary: the generic message
+        return None
+    return (f"holds a result (\"{status}\") without checkpoint.npz: no step of a run was committed there (a `sif` "
+            "result, or a run that stopped in its first step), so nothing to resume; run it again without --resume "
+            "(with --force)")
 
 
 def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -> list:
@@ -233,6 +309,7 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     wingcrack result or cannot be written."""
     from .io.outdir import check_writable, read_result
 
+    _folder_name(folder)   # not locked here: run and sif call it on rank 0 only, inside their lock
     result = read_result(folder, summary=summary)
     folder = check_writable(folder)
     files = {}

@@ -386,7 +386,7 @@ class Propagation:
                         limit=Limit(hi=1.0, of="L", why="no step longer than the domain"))
     steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. A run whose every tip joined "
                      "another fracture or reached the boundary is `finished` earlier. With `0`, `run` "
-                     "does nothing (use `sif`).")
+                     "does nothing and says so (`stopped: propagation.steps = 0 ...`; use `sif`).")
     alpha: float = key(0.35, range=POSITIVE, doc="The growth-law exponent: L_i = Lmax (G_i / max G)^alpha over the "
                        "tips with K_eq >= KIc (relative tolerance 1e-3). A tip whose L_i < 0.4·`mesh.tip_size` does "
                        "not advance, unless it grows straight on.")
@@ -668,6 +668,8 @@ class _Table:
         """Refuse any key not among `keys`, suggesting the closest one."""
         allowed = [k.name for k in keys]
         for k in self.data:
+            if not isinstance(k, str):   # Case.from_dict: a TOML key is always a string
+                raise CaseError(self.key(repr(k)), f"unknown key (keys are strings, got {_what(k)})")
             if k not in allowed:
                 near = difflib.get_close_matches(k, allowed, n=1)
                 hint = f" (did you mean {near[0]}?)" if near else ""

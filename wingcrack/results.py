@@ -138,8 +138,8 @@ def dataframe(rows):
     try:
         import pandas as pd
     except ImportError:
-        raise ImportError("to_dataframe() needs pandas (pip install pandas); "
-                          "the same rows are available as plain dicts") from None
+        raise ImportError("to_dataframe() needs pandas (pip install pandas); the same rows as plain dicts: "
+                          "wingcrack.results.tip_rows(result.summary['steps'])") from None
     return pd.DataFrame(rows)
 
 

@@ -244,7 +244,7 @@ def sif_warnings(tips) -> list:
         if k > 0 and off > SIF_AGREEMENT * k:
             out.append(f"fracture {t.fracture} end {t.end}: displacement correlation KI {t.KI:.6g}, KII {t.KII:.6g} "
                        f"and the interaction integral KI_M {t.KI_M:.6g}, KII_M {t.KII_M:.6g} Pa m^0.5 differ by "
-                       f"{100 * off / k:.2g} % of K")
+                       f"{100 * off / k:.3g} % of K")
     return out
 
 

@@ -14,8 +14,8 @@ files are deleted first (nothing else in the folder is touched), so no step
 file of a longer earlier run is left next to the new ones.
 
 One command at a time per folder (locked): `run`, `sif`, `run --resume` and
-`plot` hold an exclusive advisory lock (flock) on the folder itself for the
-whole command, so a second one into the same folder is refused at once
+`plot` (and api.run, sif from Python) hold an exclusive advisory lock
+(flock) on the folder itself for the whole command, so a second one into the same folder is refused at once
 instead of mixing its files with the first's. The lock is on the folder's
 own inode, not on a lock file: nothing is added to the folder (a refused or
 foreign folder stays as it was, and --force and read_result see only the

@@ -14,7 +14,8 @@ step and says "failed: <reason>". A step in which no tip moves ends the run
 whose every tip has joined another fracture or reached the boundary has
 completed its growth and is "finished" before propagation.steps (the disc's
 wings at the load points); a case with no tip that may grow at all stops
-with NO_TIP_AT_ALL.
+with NO_TIP_AT_ALL, and propagation.steps = 0 with NO_STEPS (a run that did
+nothing is never "finished").
 """
 from __future__ import annotations
 
@@ -35,6 +36,18 @@ from .fracture_set import FractureSet
 
 #: no fracture of the case has a free tip that may grow (every end a mouth, or grow = false)
 NO_TIP_AT_ALL = "stopped: no tip can grow (no fracture has a free tip that may grow)"
+#: propagation.steps = 0: no step was asked for (a run that did nothing is not "finished")
+NO_STEPS = "stopped: propagation.steps = 0 (no step asked for; `wingcrack sif` solves the initial geometry)"
+
+
+#: added to the load-limit status of a case in which the load factor multiplies nothing
+NOTHING_SCALES = (" (nothing in the case scales with it: every [[bc]] value and slip is 0, and the in-situ stress "
+                  "and gravity are not scaled)")
+
+
+def _scaled_load(case) -> bool:
+    """Does the load factor multiply anything (a non-zero bc value or slip)?"""
+    return any(any(b.value) for b in case.bcs) or any(f.slip for f in case.fractures)
 
 
 def no_tip_left(records) -> str:
@@ -48,7 +61,10 @@ def no_tip_left(records) -> str:
 class RunResult(LastSolve):
     """A propagation run: status, steps (dicts as in summary.json), the final
     fracture set, and the last step's crack mesh, problem and contact.
-    .tips, .polylines, .to_dataframe(), .dolfinx_mesh, .displacement."""
+    .tips, .polylines, .to_dataframe(), .dolfinx_mesh, .displacement. mesh,
+    problem, contact, .dolfinx_mesh and .displacement are None when the run
+    ended on a geometry it did not record (stopped on the load factor limit:
+    the search's trial solve is no step)."""
     status: str
     steps: list
     fractures: FractureSet
@@ -120,6 +136,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     lam = 0.0 if prop.load == "scale" else 1.0
     records, status = [], "finished"
     disc = None
+    shown = None   # the discretisation of the last recorded step, while it is not released
     sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
     first = 0
     if resume:
@@ -139,6 +156,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
         if out is not None and comm.rank == 0:
             write_summary(out / "summary.json", summary_now(st))
 
+    if not records and first >= prop.steps:
+        status = NO_STEPS
     k = first
     for k in range(first, prop.steps):
         timer = step.Timer()
@@ -148,7 +167,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 status = no_tip_left(records)
                 break
             _release(disc)   # the previous step's factors and forms
-            disc = None
+            disc = shown = None
             disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout)
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
@@ -158,7 +177,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             if prop.load == "scale":
                 crit = _critical_load(case, disc, fset, grow, lam)
                 if crit.load_factor is None:
-                    status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}"
+                    status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}" \
+                        + ("" if _scaled_load(case) else NOTHING_SCALES)
                     break
                 lam, solves = crit.load_factor, int(crit.solves)
             else:
@@ -174,6 +194,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 # the solved step is a result too: recorded with its files, no growth
                 status = "stopped: no tip reaches KIc under the fixed load"
                 records.append(step.finish(out, k, lam, disc, tips, timer, solves=1))
+                shown = disc
                 break
             grown = growth.grow(fset, candidates, len(tips), rule, case.domain)
             timer.lap("growth")
@@ -183,6 +204,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 # checkpointed: a resumed run solves it again and stops the same way)
                 status = f"stopped: no tip can grow ({grown.why_none()})"
                 records.append(step.finish(out, k, lam, disc, tips, timer, solves=solves))
+                shown = disc
                 break
             if case.mesh.adaptive:
                 sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
@@ -191,12 +213,11 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
+                shown = disc
                 done = fset.copy()
                 write("running")
                 if out is not None and comm.rank == 0:
                     checkpoint.save(out, case, k, fset, lam, [r.to_dict() for r in records], sizes)
-            if progress is not None:
-                progress(k, record.to_dict())
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
             write(status)
@@ -207,6 +228,15 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 records.pop()
             write(status)
             raise ComputationError(status) from None
+        if progress is not None:
+            # the caller's code, after step k is committed: its own exception goes up unchanged (not a
+            # failure of the computation, and step k stays in summary.json and the checkpoint)
+            try:
+                progress(k, record.to_dict())
+            except KeyboardInterrupt as err:
+                status = interrupt.stop_status(err)
+                write(status)
+                raise
     if finishing is not None:
         try:
             warnings.extend(finishing(summary_now(status)))
@@ -216,8 +246,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             raise
     write(status)
     result = RunResult(status, [r.to_dict() for r in records], fset, summary_now(status), out,
-                       mesh=None if disc is None else disc.cm, problem=None if disc is None else disc.problem,
-                       contact=None if disc is None else disc.contact)
+                       mesh=None if shown is None else shown.cm, problem=None if shown is None else shown.problem,
+                       contact=None if shown is None else shown.contact)
     if out is not None:
         result.files = step.files_of(out, len(records))
     return result
