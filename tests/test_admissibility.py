@@ -40,7 +40,7 @@ def mesh_of(case: wingcrack.Case, **kw):
 
 def crossing(a, b) -> bool:
     """Do two polylines cross (meet inside both segments, not at an end)?"""
-    from wingcrack import _kernels as K
+    import wingcrack_kernels as K
 
     for s in range(len(a) - 1):
         for r in range(len(b) - 1):

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wingcrack import _kernels as K
+import wingcrack_kernels as K
 from wingcrack import error_estimate as ee
 
 RNG = np.random.default_rng(35)

@@ -7,7 +7,7 @@ from wingcrack.step import Timer, discretise
 from wingcrack.case import Case
 from wingcrack.propagation.critical_load import critical_load_factor
 from wingcrack.tip_sifs import correlation_sifs
-from wingcrack import _kernels as K
+import wingcrack_kernels as K
 
 
 def test_secant_on_a_piecewise_linear_response():

@@ -102,7 +102,7 @@ def test_every_remesh_is_valid(monkeypatch):
     area = W * W
     n_coarse = area / (np.sqrt(3) / 4 * case.mesh.size ** 2)
     n_fine = area / (np.sqrt(3) / 4 * h ** 2)
-    from wingcrack import _kernels
+    import wingcrack_kernels as _kernels
     for k, (cm, step) in enumerate(zip(meshes, r.steps)):
         assert _kernels.min_jacobian(cm.x, cm.cells).min() > 0
         q = heron_quality(cm.x, cm.cells)

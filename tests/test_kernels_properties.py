@@ -25,7 +25,7 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 from references import kinked_sifs
-from wingcrack import _kernels as K
+import wingcrack_kernels as K
 
 # WINGCRACK_HYPOTHESIS_EXAMPLES=20000 for a long search; 300 in make test.
 PROFILE = settings(

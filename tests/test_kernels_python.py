@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from references import kinked_sifs
-from wingcrack import _kernels as K
+import wingcrack_kernels as K
 
 RNG = np.random.default_rng(2020)
 

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from wingcrack import _kernels as K
+import wingcrack_kernels as K
 from wingcrack.material import e_prime, kappa, lame
 
 

@@ -110,7 +110,7 @@ def test_cells_valid_and_counter_clockwise(case):
     *_, mesh = case
     v = mesh.x[mesh.cells[:, :3]]
     assert np.all(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]) > 0.0)
-    from wingcrack import _kernels
+    import wingcrack_kernels as _kernels
 
     assert np.all(_kernels.min_jacobian(mesh.x, mesh.cells) > 0.0)
     assert np.array_equal(np.unique(mesh.cells), np.arange(len(mesh.x)))  # no unused nodes

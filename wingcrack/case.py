@@ -38,7 +38,7 @@ import numpy as np
 
 from meshing import admissibility  # the mesher's own rules: what `check` accepts it meshes
 from meshing.domain import Domain  # pure numpy: `check` needs neither gmsh nor DOLFINx
-from wingcrack import _kernels  # geometry predicates (C++)
+import wingcrack_kernels as _kernels  # geometry predicates (C++)
 from wingcrack.errors import CaseError
 from wingcrack.propagation.growth_law import length_problem   # the Lmax rule lives with the growth law
 

@@ -26,6 +26,10 @@ from wingcrack.propagation import interrupt
 
 PROG = "wingcrack"
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
+#: modules that `make setup` installs (the compiled kernels) or takes from
+#: Debian: missing, the installation is incomplete, not the case wrong
+INSTALLED_BY_SETUP = {"wingcrack_kernels", "dolfinx", "ufl", "basix", "petsc4py", "mpi4py", "gmsh", "meshio",
+                      "matplotlib", "scipy"}
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -121,6 +125,13 @@ def main(argv: list[str] | None = None) -> int:
         _error("terminated" if isinstance(err, interrupt.Terminated) else "interrupted")
         return interrupt.exit_code(err)
     except Exception as err:  # noqa: BLE001 - the CLI is the last line of defence
+        if isinstance(err, ModuleNotFoundError) and err.name in INSTALLED_BY_SETUP:
+            # an environment made before the module was needed (the kernels' own
+            # module, after a pull without `make setup`): no case can be checked
+            _error(f"this Python environment lacks the module {err.name}, which `make setup` installs: run "
+                   "`make setup` in the wingcrack checkout (an environment made for an older checkout needs it "
+                   "again)", every_rank=True)
+            return EXIT_FAILED
         if args.debug:
             traceback.print_exc()
         detail = " ".join(str(err).split()) or "(no message)"

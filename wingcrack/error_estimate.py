@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _kernels as K
+import wingcrack_kernels as K
 
 _NEXT = [1, 2, 0]  # vertex k -> k+1: the edges (0,1), (1,2), (2,0)
 _FROBENIUS = np.array([1.0, 1.0, 2.0])  # sxx, syy, sxy (twice)

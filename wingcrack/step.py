@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .version import __version__
-from . import _kernels as K
+import wingcrack_kernels as K
 from .errors import ComputationError
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
 

@@ -7,7 +7,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import _kernels as K
+import wingcrack_kernels as K
 from .fem.interaction_integral import InteractionIntegral
 from .fem.nodal import nodal_displacements
 from .material import kappa

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _kernels as K
+import wingcrack_kernels as K
 
 NORMAL, TANGENTIAL = 0, 1
 

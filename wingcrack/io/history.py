@@ -26,7 +26,7 @@ def history(summary: dict) -> dict:
 
 
 def _k_eq(t: dict) -> float:
-    from .. import _kernels as K
+    import wingcrack_kernels as K
 
     return float(K.equivalent_k(np.array([t["KI"]]), np.array([t["KII"]]), np.array([t["theta"]]))[0])
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from meshing import admissibility
 
-from .. import _kernels as K
+import wingcrack_kernels as K
 from ..errors import ComputationError
 from ..material import e_prime
 from ..parallel import snap

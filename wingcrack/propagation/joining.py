@@ -21,7 +21,7 @@ import numpy as np
 
 from meshing import admissibility
 
-from .. import _kernels as K
+import wingcrack_kernels as K
 
 
 def _segments_of(fset, skip):

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import _kernels as K
+import wingcrack_kernels as K
 from .. import step
 from ..adaptivity import next_sizes
 from ..errors import ComputationError
