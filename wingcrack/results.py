@@ -5,20 +5,18 @@ result objects of wingcrack.sif and wingcrack.run offer beyond their fields:
 tables of the tips, and the last solve's DOLFINx objects."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
-TIP_COLUMNS = ("fracture", "end", "x", "y", "KI", "KII", "KI_M", "KII_M", "G", "theta", "K_eq")
 #: the mesh statistics a step record keeps (meshing.CrackMesh.stats)
 MESH_STATS = ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried", "symmetric")
 
 
 @dataclass
-class TipRecord:
-    """One tip of a step, where the step's SIFs were computed (m, Pa m^0.5,
-    J/m^2, rad). KI, KII: displacement correlation; KI_M, KII_M: the
-    interaction integral (None where it had no room); G, theta, K_eq: of the
-    SIFs that drive growth (propagation.sif). state: "growing", "arrested",
-    "joined" or "boundary"; advance: how far the step moved the tip (m)."""
+class TipValues:
+    """A tip and its SIFs where they were computed (m, Pa m^0.5, J/m^2, rad).
+    KI, KII: displacement correlation; KI_M, KII_M: the interaction integral
+    (None where it had no room); G, theta, K_eq: of the SIFs that drive
+    growth (propagation.sif)."""
     fracture: int
     end: int
     x: float
@@ -30,19 +28,26 @@ class TipRecord:
     G: float
     theta: float
     K_eq: float
+
+
+TIP_COLUMNS = tuple(f.name for f in fields(TipValues))
+
+
+@dataclass
+class TipRecord(TipValues):
+    """One tip of a step in summary.json: its values (TipValues), and what
+    the step did to it. state: "growing", "arrested", "joined" or
+    "boundary"; advance: how far the step moved the tip (m)."""
     advance: float = 0.0
     state: str = "arrested"
 
     @classmethod
-    def of(cls, sif, state: str = "arrested", advance: float = 0.0) -> "TipRecord":
-        """The record of a tip_sifs.TipSIF."""
-        return cls(sif.fracture, sif.end, sif.x, sif.y, sif.KI, sif.KII, sif.KI_M, sif.KII_M, sif.G, sif.theta,
-                   sif.K_eq, advance, state)
+    def of(cls, sif: TipValues, state: str = "arrested", advance: float = 0.0) -> "TipRecord":
+        """The record of a tip's values (a tip_sifs.TipSIF)."""
+        return cls(**{k: getattr(sif, k) for k in TIP_COLUMNS}, advance=advance, state=state)
 
     def to_dict(self) -> dict:
-        return dict(fracture=self.fracture, end=self.end, x=self.x, y=self.y, KI=self.KI, KII=self.KII,
-                    KI_M=self.KI_M, KII_M=self.KII_M, G=self.G, theta=self.theta, K_eq=self.K_eq,
-                    advance=self.advance, state=self.state)
+        return asdict(self)
 
 
 @dataclass

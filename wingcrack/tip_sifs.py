@@ -11,6 +11,7 @@ import wingcrack_kernels as K
 from .fem.interaction_integral import InteractionIntegral
 from .fem.nodal import nodal_displacements
 from .material import kappa
+from .results import TipValues
 
 # Outer radius of the interaction-integral domain, in rosette radii; it is
 # cut back so the domain holds no other fracture, boundary or crack kink.
@@ -22,18 +23,9 @@ R_OUT_ONE_LAYER = 1.05
 
 
 @dataclass
-class TipSIF:
-    fracture: int
-    end: int
-    x: float
-    y: float
-    KI: float
-    KII: float
-    KI_M: float | None
-    KII_M: float | None
-    G: float
-    theta: float
-    K_eq: float
+class TipSIF(TipValues):
+    """A tip's SIFs by both methods (results.TipValues) and r_out, the outer
+    radius of its interaction-integral domain (m; 0 where it had no room)."""
     r_out: float
 
     def as_dict(self):
