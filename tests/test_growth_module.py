@@ -134,6 +134,16 @@ def test_length_under_l_min_is_refused_up_front(tmp_path):
 
 def test_length_beyond_the_domain_is_refused():
     """A step longer than the domain cannot happen (the tip reaches the
-    boundary first), and 1e300 m overflowed the geometry: refused."""
-    assert length_problem(2.0, 0.02, domain_size=2.0) is None
-    assert "longer than the domain" in length_problem(1e300, 0.02, domain_size=2.0)
+    boundary first), and 1e300 m overflowed the geometry: the reader's
+    limit (at most L, the domain's length scale) refuses it naming the key."""
+    d = {"title": "t", "material": {"E": 1e10, "nu": 0.25, "KIc": 1e6},
+         "domain": {"shape": "rectangle", "corner": [-1.0, -1.0], "size": [2.0, 2.0]},
+         "fractures": [{"points": [[-0.1, -0.1], [0.1, 0.1]]}],
+         "bc": [{"on": "top", "traction": [0.0, 1e6]}, {"on": "bottom", "traction": [0.0, -1e6]},
+                {"at": [-1.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [1.0, 0.0], "displacement_y": 0.0}],
+         "mesh": {"size": 0.2, "tip_size": 0.02}, "propagation": {"steps": 3, "length": 1e300}}
+    with pytest.raises(CaseError, match=r"^propagation\.length: .*at most"):
+        Case.from_dict(d)
+    L = float(Case.from_dict({**d, "propagation": {"steps": 3}}).domain.length_scale())
+    d["propagation"]["length"] = L
+    assert Case.from_dict(d).propagation.length == L

@@ -38,9 +38,10 @@ def advances(G, Lmax: float, alpha: float, Lmin: float, theta=None) -> np.ndarra
     return L
 
 
-def length_problem(length: float, tip_size: float, domain_size: float | None = None) -> str | None:
-    """Why Lmax = `length` cannot work with rosettes of radius `tip_size` in
-    a domain `domain_size` across (None when it can).
+def length_problem(length: float, tip_size: float) -> str | None:
+    """Why Lmax = `length` cannot work with rosettes of radius `tip_size`
+    (None when it can). That no step is longer than the domain is a limit of
+    the case reader's (propagation.length at most L).
 
     The tip that grows farthest advances by Lmax; with Lmax under L_min
     every kinked tip would advance less than L_min and so never grow, and
@@ -49,13 +50,9 @@ def length_problem(length: float, tip_size: float, domain_size: float | None = N
     above the mesher's smallest (0.1 tip_size), and the growth module sends
     a tip that place_tip would join onto its own polyline (an artefact of
     steps under 0.75 tip_size) straight on instead, when the mesher has room
-    for it. No step is longer than the domain (a tip reaches the boundary
-    first), and a far longer one breaks the geometry's arithmetic (1e300 m
-    overflows), so Lmax is at most `domain_size`."""
+    for it."""
     Lmin = L_MIN * tip_size
     if not length >= Lmin * (1 - L_MIN_RTOL):
         return (f"{length:g} m is under L_min = {L_MIN:g} mesh.tip_size = {Lmin:g} m: a kinked tip never advances "
                 f"less than L_min, so no tip could grow; use at least {Lmin:g} m (or a smaller mesh.tip_size)")
-    if domain_size is not None and length > domain_size:
-        return f"{length:g} m is longer than the domain ({domain_size:g} m across): use at most {domain_size:g} m"
     return None
