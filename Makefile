@@ -39,7 +39,7 @@ $(PY):
 $(STAMP): $(PY) $(KERNEL_FILES) requirements-dev.txt constraints.txt
 	$(PY) -m pip install -q -c constraints.txt -r requirements-dev.txt
 	$(PY) -m pip install -q --no-build-isolation --no-deps -c constraints.txt -e .
-	$(PY) -c "import numpy, dolfinx, wingcrack_kernels, wingcrack._kernels; assert numpy.__version__.startswith('1.24'), numpy.__version__"
+	$(PY) -c "import numpy, dolfinx, wingcrack_kernels, wingcrack.case; assert numpy.__version__.startswith('1.24'), numpy.__version__"
 	touch $@
 
 $(KERNELSPEC): $(STAMP)
