@@ -60,11 +60,14 @@ class ContactRecord:
     closed: int = 0
     iterations: int = 0
     kkt: dict | None = None
+    friction: dict | None = None
 
     def to_dict(self) -> dict:
         out = {"pairs": self.pairs, "rows": self.rows, "closed": self.closed, "iterations": self.iterations}
         if self.kkt is not None:
             out["kkt"] = self.kkt
+        if self.friction is not None:
+            out["friction"] = self.friction
         return out
 
 

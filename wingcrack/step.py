@@ -72,8 +72,24 @@ class Discretisation:
 
     def solve(self, load_factor: float):
         """Displacement at `load_factor`, with contact (the active set) on the
-        faces that have it; the contact result (None without rows)."""
+        faces that have it, friction as one increment from the reference slip
+        (see accept); the contact result (None without rows)."""
         return self.contact.solve(load_factor)
+
+    def accept(self) -> None:
+        """The current solution becomes the converged state the next solve
+        starts from (friction is path dependent; without it nothing changes)."""
+        self.contact.accept()
+
+    def pair_slips(self) -> np.ndarray:
+        """(p,) the slip [u].t of every Coulomb pair at the current solution
+        (0 elsewhere): the history the next mesh carries on."""
+        c = self.contact
+        out = np.zeros(len(self.cm.pairs))
+        if c.result is not None:
+            k = c.rows.coulomb
+            out[c.rows.pair[k]] = c.result.jump[k]
+        return out
 
     def correlation_sifs(self, case):
         """(KI, KII) of every tip by displacement correlation: four nodal
@@ -134,6 +150,8 @@ class Discretisation:
             rec.closed = int(np.sum(c.result.active))
             rec.iterations = int(c.result.iterations)
             rec.kkt = c.result.kkt_residuals(c.rows.gap, c.rows.normal)
+            if getattr(c.result, "state", None) is not None:
+                rec.friction = c.result.friction_residuals(c.rows.weight)
         return rec
 
     def release(self) -> None:
@@ -172,13 +190,17 @@ def driving(tips: list, case) -> list:
     return out
 
 
-def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT) -> Discretisation:
+def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT,
+               history=None) -> Discretisation:
     """Mesh `fractures` (anything with .points: case Fracture or
     GrowingFracture) in the case's domain, with the bc points as nodes, in
     the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
     loads, the check for pieces nothing holds, assembly, factorisation (with
     the Schur complement on the contact pair dofs) and the contact rows.
-    sizes: the error-estimate size field of the previous step (or None)."""
+    sizes: the error-estimate size field of the previous step (or None);
+    history: the converged slip of the previous step's faces
+    (contact.slip_history.SlipHistory), carried to this mesh's Coulomb pairs
+    by arc length as the reference of the first increment (None: no slip)."""
     from meshing.crack_mesh import crack_mesh
 
     from .contact.constraints import constraint_rows
@@ -208,6 +230,8 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None)
     timer.lap("factorize")
     contact = ContactProblem(problem, rows)
+    if history is not None and contact.has_friction:
+        contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
     return Discretisation(cm, problem, contact)
 

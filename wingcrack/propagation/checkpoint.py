@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..io.atomic import write_atomic
+from ..contact.slip_history import SlipHistory
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
@@ -48,7 +49,8 @@ def _plain(obj):
     return repr(obj)
 
 
-def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes) -> None:
+def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None) -> None:
+    """history: the converged slip of the Coulomb faces (SlipHistory, or None)."""
     meta = {
         "version": VERSION, "case": fingerprint(case), "step": k, "load_factor": lam, "steps": steps,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
@@ -57,13 +59,15 @@ def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes) -
     arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
     if sizes is not None:
         arrays["size_triangles"], arrays["size_values"] = sizes
+    if history is not None:
+        arrays.update(history.to_arrays())
     buf = io.BytesIO()   # built in memory: an interrupt here leaves no file and no open zip on disk
     np.savez(buf, meta=np.array(json.dumps(meta, default=_plain)), **arrays)
     write_atomic(Path(out) / NAME, buf.getvalue())
 
 
 def load(out, case) -> dict:
-    """{'step', 'load_factor', 'steps', 'fset', 'sizes'} of the checkpoint in
+    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history'} of the checkpoint in
     `out`; ValueError naming the file and the reason when there is none, it
     cannot be read (truncated, empty, not a checkpoint, keys missing) or it
     belongs to another case."""
@@ -79,6 +83,8 @@ def load(out, case) -> dict:
             points = [np.array(data[f"points_{i}"]) for i in range(len(meta["fractures"]))]
             sizes = (np.array(data["size_triangles"]), np.array(data["size_values"])) \
                 if "size_triangles" in data else None
+            slip = {name: np.array(data[name]) for name in data.files if name.startswith("slip_")}
+            history = SlipHistory.from_arrays(slip) if slip else None
     except Exception as err:  # noqa: BLE001 - a damaged file fails in numpy, zipfile, zlib or json in any way
         raise ValueError(f"{path} cannot be read as a checkpoint ({_reason(err)}); "
                          "start the run again without --resume (with --force)") from None
@@ -89,7 +95,7 @@ def load(out, case) -> dict:
                                      m["slip"], m["slip_profile"], m["grow"])
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
-                 "fset": FractureSet(fractures), "sizes": sizes}
+                 "fset": FractureSet(fractures), "sizes": sizes, "history": history}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "
