@@ -8,7 +8,9 @@ before friction (what `run --resume` loads).
 The face files are written for a hand-made crack mesh (no gmsh, no
 DOLFINx): one straight crack along +x from (-1, 0) to (1, 0) in two P2
 edges, so that its normal n = (0, 1) and tangent t = (1, 0) give the
-opening and slip of a jump by hand.
+opening and slip of a jump by hand. The tractions that step.face_values
+gives are checked on a solve: a glued crack under a uniform stress, whose
+face tractions are that stress's.
 """
 from __future__ import annotations
 
@@ -192,3 +194,36 @@ def test_a_step_from_before_friction_loads_for_resume():
     assert again["contact"] == {**old["contact"], "stick": 0, "slip": 37, "fallback": False}
     assert {k: v for k, v in again.items() if k != "contact"} == {k: v for k, v in old.items() if k != "contact"}
     assert StepRecord.from_dict(again) == rec
+
+
+# ---------------------------------------------------------------- face values of a solve
+
+
+def test_face_tractions_of_a_glued_crack_are_the_uniform_stress():
+    """A crack whose faces are glued (prescribed slip 0, in contact) in a
+    plate under the uniform stress sigma: the uniform field is the solution
+    (it lies in the P2 space and has no jump), so the face tractions are
+    t_n = n.sigma.n and t_t = t.sigma.n at every pair; every pair is closed
+    and counted as slipping (a prescribed slip holds its tangential row).
+    Tolerance 1e-10 of |sigma|: only the round-off of the factorisation and
+    of the tributary lengths (uniform tractions make the nodal forces
+    exactly t * weight)."""
+    from builders import square_plate_with_cracks
+    from wingcrack.case import Case
+    from wingcrack.step import solve_initial
+
+    t = np.array([np.cos(0.3), np.sin(0.3)])
+    n = np.array([-t[1], t[0]])   # left normal of the fracture direction
+    sxx, syy, sxy = -1e6, -2e6, 0.5e6
+    sigma = np.array([[sxx, sxy], [sxy, syy]])
+    d = square_plate_with_cracks(20.0, [[-t, t]], (sxx, syy, sxy), size=2.0, tip_size=0.1)
+    d["fractures"][0].update({"faces": "slip", "slip": 0.0})
+    sol = solve_initial(Case.from_dict(d))
+    v = sol.face_values()
+    scale = np.abs(sigma).max()
+    assert n @ sigma @ n < 0 and abs(t @ sigma @ n) > 0.05 * scale   # pressed shut and sheared
+    assert np.abs(v["normal_traction"] - n @ sigma @ n).max() < 1e-10 * scale
+    assert np.abs(v["tangential_traction"] - t @ sigma @ n).max() < 1e-10 * scale
+    assert v["closed"].all() and np.all(v["state"] == SLIP) and not v["slip_increment"].any()
+    rec = sol.contact_record()
+    assert (rec.closed, rec.stick, rec.slip, rec.fallback) == (len(sol.cm.pairs), 0, len(sol.cm.pairs), False)

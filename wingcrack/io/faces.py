@@ -6,9 +6,12 @@ Point data of faces_XXXX.vtu (zero at the tips, which are not pairs):
 
     opening              w = [u].n (m, > 0 open)
     slip                 s = [u].t (m)
-    normal_traction      t_n (Pa, <= 0 in contact; 0 without a normal row)
-    tangential_traction  t_t (Pa) on the + face in the t direction (0 without a
-                         tangential row); with friction it opposes the slip increment
+    normal_traction      t_n = sigma_nn = n.sigma.n (Pa, <= 0 in contact; 0 without
+                         a normal row)
+    tangential_traction  t_t = sigma_nt = t.sigma.n (Pa; 0 without a tangential
+                         row): the shear stress on the face plane, signed as the
+                         slip it drives; the - side's friction on the + face,
+                         -t_t t, opposes the slip increment, so t_t has its sign
     slip_increment       s - s_reference (m): the slip since the last converged
                          state, what the friction law acted on (0 on non-coulomb pairs)
     state                OPEN = 0, STICK = 1, SLIP = 2 (Int8), the codes of
