@@ -59,7 +59,7 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
             edges = face_lines[face_states == state]
             if len(edges):
                 # under the fracture lines (zorder 2), wide enough to show past them
-                band = ax.add_collection(LineCollection(edges, colors=colour, linewidths=5.0, alpha=0.45,
+                band = ax.add_collection(LineCollection(edges, colors=colour, linewidths=7.0, alpha=0.5,
                                                         capstyle="butt", zorder=1.5, label=label))
                 if ax is ax_full:
                     bands[label] = band
