@@ -124,32 +124,58 @@ class Discretisation:
         return (np.array([t.KI if t.KI_M is None else t.KI_M for t in tips], float),
                 np.array([t.KII if t.KII_M is None else t.KII_M for t in tips], float))
 
-    def face_values(self):
-        """(jump (p, 2), normal traction (p,), closed (p,)) of every face-node
-        pair: [u] = u(+) - u(-) (m), sigma_nn (Pa, <= 0 in contact; 0 without
-        a normal row) and whether it is in contact. Collective (the face
-        displacements are gathered)."""
+    def pair_states(self):
+        """(state (p,) int8 OPEN / STICK / SLIP (io.faces), closed (p,) bool:
+        in contact, state != OPEN on a normal row) of every face-node pair,
+        in cm.pairs order. Local (no communication)."""
+        closed = np.zeros(len(self.cm.pairs), bool)
+        c = self.contact
+        if c.result is not None:
+            normal = c.rows.normal
+            closed[c.rows.pair[normal]] = c.result.active[normal]
+        return c.pair_states(len(self.cm.pairs)), closed
+
+    def face_values(self) -> dict:
+        """The faces' values of every face-node pair, in cm.pairs order
+        (io/faces.py writes them): {"jump": (p, 2) [u] = u(+) - u(-) (m),
+        "normal_traction": (p,) t_n (Pa, <= 0 in contact; 0 without a normal
+        row), "tangential_traction": (p,) t_t = -mu_t / weight = t.sigma.n
+        (Pa, the shear stress on the face plane, signed as the slip it
+        drives; 0 without a tangential row), "state" and "closed"
+        (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
+        non-coulomb pairs)}. Collective (the face displacements are
+        gathered)."""
         from .fem.nodal import nodal_displacements
 
         pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
         fm, u = self.problem.fm, self.problem.u
         jump = nodal_displacements(fm, u, pairs[:, 0]) - nodal_displacements(fm, u, pairs[:, 1])
-        traction = np.zeros(len(pairs))
-        closed = np.zeros(len(pairs), bool)
+        normal_traction = np.zeros(len(pairs))
+        tangential_traction = np.zeros(len(pairs))
+        slip_increment = self.contact.slip_increments(len(pairs))
+        state, closed = self.pair_states()
         c = self.contact
         if c.result is not None:
             normal = c.rows.normal
-            traction[c.rows.pair[normal]] = c.normal_traction()[normal]
-            closed[c.rows.pair[normal]] = c.result.active[normal]
-        return jump, traction, closed
+            normal_traction[c.rows.pair[normal]] = c.normal_traction()[normal]
+            tangential = ~normal
+            tangential_traction[c.rows.pair[tangential]] = (-c.result.mu[tangential]
+                                                            / np.maximum(c.rows.weight[tangential], 1e-300))
+        return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
+                "state": state, "slip_increment": slip_increment, "closed": closed}
 
     def contact_record(self) -> ContactRecord:
+        from .io.faces import SLIP, STICK
+
         c = self.contact
         rec = ContactRecord(int(len(self.cm.pairs)), int(len(c.rows)))
         if c.result is not None:
+            state, _ = self.pair_states()
             rec.closed = int(np.sum(c.result.active))
+            rec.stick, rec.slip = int(np.sum(state == STICK)), int(np.sum(state == SLIP))
             rec.iterations = int(c.result.iterations)
             rec.kkt = c.result.kkt_residuals(c.rows.gap, c.rows.normal)
+            rec.fallback = bool(c.result.fallback)
             if getattr(c.result, "state", None) is not None:
                 rec.friction = c.result.friction_residuals(c.rows.weight)
         return rec
@@ -317,7 +343,7 @@ def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> N
     write_fields(out / fields_name(k), disc.problem, disc.cm, field_data=about)
     faces = disc.face_values()
     if MPI.COMM_WORLD.rank == 0:
-        write_faces(out / faces_name(k), disc.cm, *faces, field_data=about)
+        write_faces(out / faces_name(k), disc.cm, faces, field_data=about)
         write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
         write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
 
