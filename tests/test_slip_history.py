@@ -7,17 +7,21 @@ segments' own formula (x - origin).d; a quadratic in arc length, which the P2
 field of straight edges with mid nodes in the middle reproduces exactly; on
 the quarter-point edges next to a tip the P2 field is exactly
 beta sqrt(rho) + gamma rho (rho the distance from the tip, zero jump at the
-tip), fitted here to the quarter-point and corner values; zero on a wing that
-did not exist when the slip was recorded. The same mesh must give back what
-was recorded, whatever it was (random values, a T-junction's two host pairs
-with different slips included).
+tip), fitted here to the quarter-point and corner values; for any other
+profile (the elliptic one) the old P2 field found in the plane, xi by
+bisection on the edge's isoparametric map (a second method); zero on a wing
+that did not exist when the slip was recorded. The same mesh must give back
+what was recorded, whatever it was (random values, a T-junction's two host
+pairs with different slips, fractures linked end to end).
 
 Tolerances: every reference is reproduced exactly by the interpolation, so
 what remains is round-off: arc lengths to ~1e-16 of the fracture length,
-times slopes of O(slip / length) (and of sqrt(rho) at rho >= h/4 of the
-nearest node), shape functions to ~1e-16. 1e-12 of the slip scale keeps four
-orders of margin and still catches an arc-length shift of 1e-12 of the
-length (an origin off by that much, an edge read on the wrong side).
+times slopes of O(slip / length) (steeper next to a tip, where sqrt(rho) is
+read at rho >= h/4 of the old nodes or snapped onto an old node), shape
+functions to ~1e-16. 1e-12 of the slip scale keeps three orders of margin
+and still catches an arc-length shift of 1e-11 of the length (an origin off
+by that much, an edge read on the wrong side). The issue's own criterion at
+coinciding arc lengths, 1e-10 of the slip, is checked as written.
 """
 import numpy as np
 import pytest
