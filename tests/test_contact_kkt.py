@@ -8,6 +8,7 @@ import pytest
 from wingcrack.step import solve_initial
 from wingcrack.case import Case
 from wingcrack.contact.active_set import solve_active_set
+from wingcrack.contact.friction import fixed_point_solve
 
 CASES = sorted(p for p in (Path(__file__).parents[1] / "cases").glob("*.toml")
                if any(f.faces != "open" for f in Case.from_toml(p).fractures))
@@ -22,6 +23,17 @@ def test_kkt_and_initial_guess(path):
     # round-off of the small dense solve remains
     for name, value in res.kkt_residuals(rows.gap, rows.normal).items():
         assert value < 1e-8, (name, value)
+    if rows.coulomb.any():
+        # the friction law to the same 1e-8, and the second method (the fixed point of Tresca
+        # problems by bounded least squares; no cohesion: one solution) gives the same forces
+        for name, value in res.friction_residuals(rows.weight).items():
+            assert value < 1e-8, (name, value)
+        assert not rows.cohesion.any()
+        other = fixed_point_solve(op.S, res.jump0, res.reference, rows.normal, ~rows.normal & ~rows.coulomb,
+                             rows.friction_law(), [])
+        np.testing.assert_array_equal(other.state, res.state)
+        assert np.allclose(other.mu, res.mu, rtol=1e-9, atol=1e-10 * np.abs(res.mu).max())
+        return
     target = np.where(rows.normal, -rows.gap, rows.slip)
     for start in (np.ones(len(rows), bool), np.zeros(len(rows), bool)):
         other = solve_active_set(op.S, res.jump0, target, rows.normal, active=start)

@@ -7,7 +7,7 @@ import pytest
 
 from wingcrack.contact.active_set import solve_active_set
 from wingcrack.errors import ComputationError
-from wingcrack.contact.friction import OPEN, SLIP, STICK, FrictionRows, _fixed_point, solve_friction
+from wingcrack.contact.friction import OPEN, SLIP, STICK, FrictionRows, fixed_point_solve, solve_friction
 
 
 def _law(p, f, c_force):
@@ -104,7 +104,7 @@ def test_random_pair_systems_satisfy_the_friction_law(seed, cohesion):
         # it; seeds 6, 13 have both); the forces of another method need not be the same
         return
     # the second method (fixed point of Tresca problems by bounded least squares) finds the same forces
-    other = _fixed_point(S, jump0, target, normal, ~normal & ~law.coulomb, law, [])
+    other = fixed_point_solve(S, jump0, target, normal, ~normal & ~law.coulomb, law, [])
     scale = np.max(np.abs(res.mu))
     np.testing.assert_allclose(other.mu, res.mu, atol=1e-8 * scale)
     np.testing.assert_array_equal(other.state, res.state)

@@ -137,7 +137,7 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
         res = _active_set(S, jump0, target, normal, prescribed, law, cn * scale, ct * scale, max_iter, history)
         if res is not None:
             return res
-    return _fixed_point(S, jump0, target, normal, prescribed, law, history)
+    return fixed_point_solve(S, jump0, target, normal, prescribed, law, history)
 
 
 def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history):
@@ -219,7 +219,7 @@ def _solve_set(S, jump0, target, normal, prescribed, A, T, sign, partner, f, b0)
     return mu
 
 
-def _fixed_point(S, jump0, target, normal, prescribed, law, history):
+def fixed_point_solve(S, jump0, target, normal, prescribed, law, history):
     """Coulomb friction as a fixed point on the bound F = c w + mu_f mu_n:
     each iterate is Tresca friction with the last normal forces, the convex
     problem min 1/2 mu^T S mu - mu^T (target - jump0) with mu_n >= 0 and
