@@ -54,6 +54,8 @@ FIXED_POINT_RTOL = 1e-13
 #: the complementarity parameters are scaled by these in turn when the state sets cycle (the
 #: semi-smooth Newton method is not globally convergent; another scaling changes its path)
 SCALINGS = (1.0, 10.0, 0.1, 100.0, 0.01)
+#: a closed pair whose tangential force is within this (relative) of the bound is at it: it slips
+BOUND_RTOL = 1e-9
 #: residual of the linear equations, relative to the load scale, a converged set must reach
 RESIDUAL_RTOL = 1e-10
 
@@ -116,17 +118,19 @@ class FrictionResult(ActiveSetResult):
         }
 
 
-def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100):
+def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100, active=None):
     """The contact problem with Coulomb rows. target: -g on normal rows, the
     prescribed slip on prescribed tangential rows, the reference slip s_ref
-    on Coulomb rows. Without Coulomb rows, the frictionless active set."""
+    on Coulomb rows; active: the normal rows to start in contact (default:
+    those penetrating without contact forces). Without Coulomb rows, the
+    frictionless active set."""
     S = np.asarray(S, float)
     jump0 = np.asarray(jump0, float)
     target = np.asarray(target, float)
     normal = np.asarray(normal, bool)
     coulomb = np.asarray(law.coulomb, bool)
     if not coulomb.any():
-        return solve_active_set(S, jump0, target, normal)
+        return solve_active_set(S, jump0, target, normal, active=active)
     prescribed = ~normal & ~coulomb
     # c turns a jump (m) into a force (N/m): the inverse mean compliance of the rows
     cn = 1.0 / np.mean(np.abs(np.diag(S)[normal]))
@@ -134,13 +138,14 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
 
     history = []
     for scale in SCALINGS:
-        res = _active_set(S, jump0, target, normal, prescribed, law, cn * scale, ct * scale, max_iter, history)
+        res = _active_set(S, jump0, target, normal, prescribed, law, cn * scale, ct * scale, max_iter, history,
+                          active)
         if res is not None:
             return res
     return fixed_point_solve(S, jump0, target, normal, prescribed, law, history)
 
 
-def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history):
+def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history, active=None):
     """The three-state iteration with complementarity parameters cn, ct;
     None when the state sets cycle (or do not settle in max_iter)."""
     m = len(jump0)
@@ -150,7 +155,7 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
     b0 = np.asarray(law.cohesion_force, float)
     ci = np.flatnonzero(coulomb)
     pi = partner[ci]
-    A = normal & (jump0 < target)              # the rows penetrating without contact
+    A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
     T = np.full(m, OPEN, np.int8)
     T[ci] = np.where(A[pi], STICK, OPEN)
     sign = np.zeros(m)
@@ -176,7 +181,8 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
             eq = A | prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
             if res <= RESIDUAL_RTOL * max(load, np.max(np.abs(jump), initial=0.0)):
-                return FrictionResult(mu, jump, A, len(history), history, jump0, state=T, reference=target.copy(), law=law)
+                return FrictionResult(mu, jump, A, len(history), history, jump0, state=_labels(T, mu, law),
+                                      reference=target.copy(), law=law)
             return None
         key = _key(A_new, T_new, sign_new)
         if key in seen:
@@ -184,6 +190,21 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
         seen.add(key)
         A, T, sign = A_new, T_new, sign_new
     return None
+
+
+def _labels(T, mu, law) -> np.ndarray:
+    """The states as the law names them, by the traction: a closed pair at
+    the bound slips, below it sticks. The iteration's own labels differ
+    where both hold, at the bound with a zero increment (frictionless faces,
+    or the last solve of a critical-load search, a hair above the load its
+    reference was accepted at): there the pair is sliding, not held."""
+    out = T.copy()
+    ci = np.flatnonzero(law.coulomb)
+    closed = T[ci] != OPEN
+    F = law.cohesion_force[ci] + law.friction[ci] * np.maximum(mu[law.partner[ci]], 0.0)
+    at = np.abs(mu[ci]) >= F * (1 - BOUND_RTOL)
+    out[ci] = np.where(closed, np.where(at, SLIP, STICK), OPEN)
+    return out
 
 
 def _key(A, T, sign) -> bytes:
@@ -272,9 +293,7 @@ def fixed_point_solve(S, jump0, target, normal, prescribed, law, history):
         raise ComputationError("contact: NaN in the friction solve")
     active = normal & (mu > 0.0)
     state = np.full(m, OPEN, np.int8)
-    F = law.cohesion_force[ci] + law.friction[ci] * np.maximum(mu[pi], 0.0)
-    at = np.abs(mu[ci]) >= F * (1 - 1e-9)
-    state[ci] = np.where(active[pi] | ((jump - target)[pi] <= 0), np.where(at & (F > 0) | (F == 0), SLIP, STICK),
-                         OPEN)
+    state[ci] = np.where(active[pi] | ((jump - target)[pi] <= 0), STICK, OPEN)
+    state = _labels(state, mu, law)
     return FrictionResult(mu, jump, active, len(history) + iterations, history, jump0, fallback=True,
                           state=state, reference=target.copy(), law=law)

@@ -40,7 +40,10 @@ class ContactProblem:
         if self.result is not None:
             self.reference = np.where(self.rows.coulomb, self.result.jump, 0.0)
 
-    def solve(self, load_factor: float = 1.0):
+    def solve(self, load_factor: float = 1.0, active=None):
+        """One increment to `load_factor` from the reference slip; `active`:
+        the normal rows the active set starts in contact (default: those
+        penetrating without contact forces)."""
         p = self.problem
         p.solve(load_factor)
         if self.op is None:
@@ -48,7 +51,7 @@ class ContactProblem:
         rows = self.rows
         jump0 = self.op.jumps(p.u.vector.getArray())
         target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, rows.slip * load_factor))
-        res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law())
+        res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active)
         self.op.add_forces(p.u, res.mu)
         self.result = res
         return res
