@@ -93,12 +93,63 @@ def bench_contact(repeat: int):
     print(f"  contact / plain                           {contact_t / plain_t:8.2f}")
 
 
+def bench_friction(repeat: int):
+    """Coulomb friction against frictionless contact on the same 45-degree
+    disc mesh (~30k DOFs): one factorisation with the Schur complement on
+    the pair dofs serves both laws; the contact solve (elastic solve + pair
+    iterations + response) and the whole solve with the factorisation, as
+    ratios to frictionless contact, with the iterations."""
+    import time
+    from dataclasses import replace
+
+    from wingcrack.case import Case
+    from wingcrack.contact.constraints import constraint_rows
+    from wingcrack.fem.contact_problem import ContactProblem
+    from wingcrack.fem.elasticity import ElasticProblem
+    from wingcrack.fem.pair_operator import PairOperator
+    from wingcrack.loads import case_loads
+    from wingcrack.step import solve_initial
+
+    base = Case.from_toml(ROOT / "cases" / "brazilian_disc_45.toml")
+    base = replace(base, mesh=replace(base.mesh, size=0.0014))
+    laws = {"frictionless": base}
+    for mu in (0.3, 0.6):
+        laws[f"coulomb mu = {mu}"] = replace(base, fractures=[replace(f, faces="coulomb", friction=mu, cohesion=0.0)
+                                                               for f in base.fractures])
+    sol = solve_initial(base)   # compiles the forms
+    fm, m = sol.problem.fm, base.material
+    loads = case_loads(base, sol.cm)
+    rows = {name: constraint_rows(sol.cm, case.fractures) for name, case in laws.items()}
+    fac, solve, its = [], {name: [] for name in laws}, {}
+    for _ in range(repeat):
+        p = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
+        t0 = time.perf_counter()
+        p.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows["frictionless"]))
+        fac.append(time.perf_counter() - t0)
+        contacts = {name: ContactProblem(p, r) for name, r in rows.items()}   # each S before any solve
+        for name, contact in contacts.items():
+            t0 = time.perf_counter()
+            res = contact.solve(1.0)
+            solve[name].append(time.perf_counter() - t0)
+            its[name] = res.iterations
+        p.destroy()
+    f = statistics.median(fac)
+    print(f"\n45-degree disc, Coulomb friction against frictionless contact: {fm.num_dofs} DOFs; "
+          f"factorisation with the Schur complement {f:.3f} s, shared (median of {repeat})")
+    t0 = statistics.median(solve["frictionless"])
+    for name in laws:
+        t = statistics.median(solve[name])
+        print(f"  {name:18s} {len(rows[name]):4d} rows {its[name]:3d} iterations  solve {t:.4f} s  "
+              f"/ frictionless {t / t0:5.2f}   with the factorisation {(f + t) / (f + t0):5.2f}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args(argv)
     bench_sif(args.repeat)
     bench_contact(args.repeat)
+    bench_friction(args.repeat)
     from mesh_disc import main as bench_mesh
     bench_mesh(args.repeat)
     from propagation import main as bench_propagation

@@ -183,6 +183,27 @@ INVALID = [
     bad("slip-profile-unknown", [("fractures.0.faces", "slip"), ("fractures.0.slip_profile", "parabolic")],
         "fractures[0].slip_profile", '"uniform" | "elliptic"'),
     bad("gap-negative", [("fractures.0.gap", -1e-4)], "fractures[0].gap", "must be >= 0"),
+    # Coulomb faces (issue 14): fractures[0] has frictionless faces in BASE
+    bad("coulomb-without-friction", [("fractures.0.faces", "coulomb")], "fractures[0].friction",
+        'missing (required with faces = "coulomb")'),
+    bad("friction-negative", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", -0.6)],
+        "fractures[0].friction", "must be >= 0, got -0.6"),
+    bad("friction-nan", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", math.nan)],
+        "fractures[0].friction", "finite"),
+    bad("friction-inf", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", math.inf)],
+        "fractures[0].friction", "finite"),
+    bad("friction-string", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", "0.6")],
+        "fractures[0].friction", "expected a number, got a string"),
+    bad("friction-on-frictionless-faces", [("fractures.0.friction", 0.6)], "fractures[0].friction",
+        'only with faces = "coulomb" (faces is "frictionless")'),
+    bad("friction-on-open-faces", [("fractures.1.friction", 0.6)], "fractures[1].friction",
+        'only with faces = "coulomb" (faces is "open")'),
+    bad("friction-on-slip-faces", [("fractures.0.faces", "slip"), ("fractures.0.friction", 0.6)],
+        "fractures[0].friction", 'only with faces = "coulomb" (faces is "slip")'),
+    bad("cohesion-negative", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", 0.6),
+                              ("fractures.0.cohesion", -1.0)], "fractures[0].cohesion", "must be >= 0"),
+    bad("cohesion-on-frictionless-faces", [("fractures.0.cohesion", 1e5)], "fractures[0].cohesion",
+        'only with faces = "coulomb"'),
     # boundary conditions
     bad("bc-at-and-on", [("bc.2.on", "right")], "bc[2]", "not both"),
     bad("bc-no-place", [("bc.2.at", DELETE)], "bc[2]", "missing place"),
@@ -239,6 +260,11 @@ INVALID = [
     bad("slip-huge", [("fractures.0.faces", "slip"), ("fractures.0.slip", 1e300)], "fractures[0].slip", "0.1 L"),
     bad("slip-huge-on-open-faces", [("fractures.0.slip", 1e300)], "fractures[0].slip", 'only with faces = "slip"'),
     bad("gap-huge", [("fractures.0.gap", 1e300)], "fractures[0].gap", "0.1 L"),
+    bad("friction-huge", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", 1e300)],
+        "fractures[0].friction", "must be at most 100"),
+    bad("cohesion-over-a-tenth-of-E", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", 0.6),
+                                       ("fractures.0.cohesion", 1.01e9)], "fractures[0].cohesion",
+        "must be at most 0.1 E = 1e+09 Pa"),
     bad("mesh-size-huge", [("mesh.size", 1e300)], "mesh.size", "at most L = 4.472 m"),
     bad("length-huge", [("propagation", {"length": 1e300})], "propagation.length", "at most L = 4.472 m"),
     bad("max-load-factor-huge", [("propagation", {"max_load_factor": 1e300})], "propagation.max_load_factor",
@@ -290,6 +316,7 @@ def test_defaults():
     assert (case.material.thickness, case.material.density) == (1.0, 0.0)
     f = case.fractures[1]
     assert (f.faces, f.slip, f.gap, f.grow, f.slip_profile) == ("open", 0.0, 0.0, True, "uniform")
+    assert (f.friction, f.cohesion) == (0.0, 0.0)
     assert case.mesh == MeshOptions(size=0.2, tip_size=0.05, adaptive=True, sectors=32)
     assert case.propagation == Propagation(length=0.05, steps=35, alpha=0.35, load="scale", max_load_factor=100.0,
                                            sif="correlation")
@@ -321,6 +348,27 @@ def test_optional_sections_are_read():
                                            sif="interaction")
     f = case.fractures[0]
     assert (f.faces, f.slip, f.slip_profile, f.gap, f.grow) == ("slip", 1e-4, "elliptic", 1e-5, False)
+
+
+def test_coulomb_faces_are_read():
+    """friction and cohesion as given, as floats (an integer mu too); a
+    coulomb fracture's mu may be 0, the frictionless law."""
+    case = Case.from_dict(patched(("fractures.0.faces", "coulomb"), ("fractures.0.friction", 1),
+                                  ("fractures.0.cohesion", 2.5e5), ("fractures.0.gap", 1e-5)))
+    f = case.fractures[0]
+    assert (f.faces, f.friction, f.cohesion, f.gap) == ("coulomb", 1.0, 2.5e5, 1e-5)
+    assert isinstance(f.friction, float) and isinstance(f.cohesion, float)
+    assert case.fractures[1].faces == "open" and (case.fractures[1].friction, case.fractures[1].cohesion) == (0, 0)
+    zero = Case.from_dict(patched(("fractures.0.faces", "coulomb"), ("fractures.0.friction", 0.0))).fractures[0]
+    assert (zero.friction, zero.cohesion) == (0.0, 0.0)
+
+
+def test_zero_friction_and_cohesion_are_no_condition_on_other_faces():
+    """As slip = 0.0 on frictionless faces: mu = 0 and c = 0 ask for nothing,
+    accepted on any faces; a non-zero value stays an error (INVALID)."""
+    for i, faces in enumerate(("frictionless", "open")):
+        f = Case.from_dict(patched((f"fractures.{i}.friction", 0.0), (f"fractures.{i}.cohesion", 0))).fractures[i]
+        assert (f.faces, f.friction, f.cohesion) == (faces, 0.0, 0.0)
 
 
 def test_density_without_gravity_is_allowed():
@@ -478,6 +526,7 @@ def test_uniform_slip_profile_is_no_condition():
     [("material.density", 1e5)],
     [("stress", {"sxx": -1e9, "syy": 1e9, "sxy": -1e9})],        # 0.1 E
     [("bc.0.traction", [1e9, -1e9])],
+    [("fractures.0.faces", "coulomb"), ("fractures.0.friction", 100.0), ("fractures.0.cohesion", 1e9)],  # 0.1 E
     [("bc.2.displacement", [0.4472, -0.4472])],                   # 0.1 L, L = sqrt(20) m
     [("propagation", {"length": 4.472, "max_load_factor": 1e9})],  # L
     [("mesh", {"size": 4.472, "tip_size": 0.05})],
@@ -486,7 +535,7 @@ def test_uniform_slip_profile_is_no_condition():
     [("body", {"gravity": [0.0, -1e300]})],
     # the weight of the 4.47 m domain, density g L, at 0.1 E
     [("material.density", 1e4), ("body", {"gravity": [0.0, -1e9 / (1e4 * 20 ** 0.5) * 0.999]})],
-], ids=["E-lo", "E-hi", "KIc-lo", "KIc-hi", "density", "stress", "traction", "displacement", "length",
+], ids=["E-lo", "E-hi", "KIc-lo", "KIc-hi", "density", "stress", "traction", "coulomb", "displacement", "length",
         "mesh-size", "title", "gravity-no-density", "gravity-weight"])
 def test_magnitudes_at_their_limits_are_accepted(changes):
     assert Case.from_dict(patched(*changes)).title
@@ -560,7 +609,8 @@ def test_every_key_of_the_description_is_read():
                 ("propagation", {"steps": 35, "length": 0.05, "alpha": 0.35, "load": "scale",
                                  "max_load_factor": 100.0, "sif": "correlation"}),
                 ("fractures.1.faces", "open"), ("fractures.1.slip", 0.0), ("fractures.1.gap", 0.0),
-                ("fractures.1.grow", True), ("fractures.1.slip_profile", "uniform"))
+                ("fractures.1.grow", True), ("fractures.1.slip_profile", "uniform"),
+                ("fractures.1.friction", 0.0), ("fractures.1.cohesion", 0.0))
     given = {name: set() for name in DESCRIPTION}
     given["top"] = set(d)
     for name in ("material", "mesh", "body", "stress", "propagation"):

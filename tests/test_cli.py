@@ -158,6 +158,17 @@ def test_check_summary_of_brazilian_disc():
     assert "100 steps" in out
 
 
+def test_check_accepts_coulomb_faces_and_prints_their_law(tmp_path):
+    path = tmp_path / "case.toml"
+    path.write_text(to_toml(case_table.patched(("fractures.0.faces", "coulomb"), ("fractures.0.friction", 0.6),
+                                               ("fractures.0.cohesion", 1e5))))
+    res = wingcrack("check", path)
+    assert res.returncode == 0, res.stderr
+    assert res.stderr == "" and "ok: the case is valid" in res.stdout
+    assert "faces coulomb, friction 0.6, cohesion 100000 Pa" in res.stdout
+    assert "faces open, grows" in res.stdout   # fracture 1: no friction shown where there is none
+
+
 def test_console_script_when_installed():
     exe = Path(sys.executable).with_name("wingcrack")
     if not exe.exists():

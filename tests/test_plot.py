@@ -131,7 +131,8 @@ def test_step_files_hold_the_fields_and_their_load_factor(run):
         assert np.allclose(vm[ok], np.sqrt(sxx ** 2 - sxx * syy + syy ** 2 + 3 * sxy ** 2), rtol=1e-12)
         f = meshio.read(out / f"faces_{k:04d}.vtu")
         assert f.field_data["load_factor"][0] == step["load_factor"]
-        assert {"opening", "slip", "normal_traction", "closed"} <= set(f.point_data)
+        assert {"opening", "slip", "normal_traction", "closed", "state", "tangential_traction",
+                "slip_increment"} <= set(f.point_data)
 
 
 # ---------------------------------------------------------------- pictures
@@ -230,6 +231,42 @@ def test_closed_faces_come_from_the_face_files(run):
     for k, s in enumerate(summary["steps"]):
         assert s["contact"]["closed"] > 0
         assert result.faces_of(k).closed.any()
+
+
+def test_frictionless_faces_in_contact_slip(run):
+    """Issue 14 on a frictionless run: every pair in contact slips (t_t = 0
+    is its Coulomb bound for mu = c = 0), none sticks, in summary.json and
+    in the face files alike; no tangential row, so no tangential traction,
+    and no slip increment (no friction law acted)."""
+    import meshio
+
+    from wingcrack.io.faces import OPEN, SLIP
+
+    out, _, summary = run
+    for k, s in enumerate(summary["steps"]):
+        c = s["contact"]
+        assert (c["stick"], c["slip"], c["fallback"]) == (0, c["closed"], False) and "friction" not in c
+        d = meshio.read(out / f"faces_{k:04d}.vtu").point_data
+        assert set(np.unique(d["state"])) == {OPEN, SLIP}
+        assert np.array_equal(d["state"] == SLIP, d["closed"] > 0.5)
+        assert np.sum(d["state"] == SLIP) == c["slip"]   # one fracture, no junction: a + node is one pair
+        assert not d["tangential_traction"].any() and not d["slip_increment"].any()
+
+
+def test_the_picture_bands_the_last_steps_faces_by_state(run, tmp_path):
+    """fractures.png of the run draws the last step's face edges, each in
+    the band of its state read from the face file: slipping where closed,
+    open elsewhere, no stick band and no stick legend entry."""
+    from wingcrack.io.outdir import read_result
+    from wingcrack.io.pictures import fractures_of_result
+
+    result = read_result(run[0])
+    faces = result.faces_of(STEPS - 1)
+    drawn = fractures_of_result(tmp_path / "fractures.png", result)
+    assert np.array_equal(drawn["faces slip"], faces.lines[faces.closed])
+    assert np.array_equal(drawn["faces open"], faces.lines[~faces.closed])
+    assert "faces stick" not in drawn and "faces stick" not in drawn["legend"]
+    assert {"faces open", "faces slip", "pre-existing", "wing (colour: step)"} <= set(drawn["legend"])
 
 
 def test_outer_boundary_of_the_cracked_mesh_is_the_plate(run):

@@ -246,9 +246,22 @@ def _load_factor_negative(path):
     _edit_meta(path, lambda m: m.update(load_factor=-1.0))
 
 
+def _friction_negative(path):
+    _edit_meta(path, lambda m: m["fractures"][0].update(friction=-0.6))
+
+
+def _cohesion_nan(path):
+    _edit_meta(path, lambda m: m["fractures"][1].update(cohesion=float("nan")))
+
+
+def _friction_missing(path):
+    _edit_meta(path, lambda m: m["fractures"][0].pop("friction"))
+
+
 @pytest.mark.parametrize("damage", [_truncated, _empty, _garbage, _no_fractures_key, _no_points, _meta_not_json,
                                     _bad_points, _step_behind_records, _records_cut, _load_factor_nan,
-                                    _load_factor_negative], ids=lambda f: f.__name__.strip("_"))
+                                    _load_factor_negative, _friction_negative, _cohesion_nan, _friction_missing],
+                         ids=lambda f: f.__name__.strip("_"))
 def test_resume_from_a_damaged_checkpoint_exits_2_naming_it(tmp_path, capsys, damage):
     """Issue 12.8: a checkpoint.npz that cannot be read (cut short, empty,
     not a zip, keys or arrays missing, a polyline of the wrong shape) is a
@@ -273,6 +286,62 @@ def test_resume_from_a_damaged_checkpoint_exits_2_naming_it(tmp_path, capsys, da
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and "unexpected" not in err, err
     assert err.startswith(f"wingcrack: error: {out}: {out / checkpoint.NAME} cannot be read as a checkpoint ("), err
+
+
+def _coulomb_case(tmp_path):
+    """write_case's plate with Coulomb faces on its first crack."""
+    from wingcrack.case import Case
+
+    path = write_case(tmp_path / "case.toml", steps=3)
+    path.write_text(path.read_text().replace('faces = "open"', 'faces = "coulomb"\nfriction = 0.6\ncohesion = 2e5', 1))
+    case = Case.from_toml(path)
+    assert [f.faces for f in case.fractures] == ["coulomb", "open"]
+    return path, case
+
+
+def test_a_checkpoint_keeps_friction_and_cohesion(tmp_path):
+    """Issue 14: a resumed run goes on with the case fracture's law (the
+    records' friction and cohesion, which its wings take), exactly."""
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    _, case = _coulomb_case(tmp_path)
+    fset = FractureSet.from_case(case)
+    fset.fractures[0].extend(1, fset.fractures[0].points[-1] + [0.05, 0.1])   # a wing: the law is per fracture
+    checkpoint.save(tmp_path, case, 0, fset, 0.5, [{"step": 0, "load_factor": 0.5}], None)
+    got = checkpoint.load(tmp_path, case)["fset"].fractures
+    assert [(f.faces, f.friction, f.cohesion, f.wing_faces()) for f in got] == \
+        [("coulomb", 0.6, 2e5, "coulomb"), ("open", 0.0, 0.0, "open")]
+    assert all(type(f.friction) is float and type(f.cohesion) is float for f in got)
+    assert np.array_equal(got[0].points, fset.fractures[0].points) and got[0].pre == (0, 1)
+
+
+def test_a_checkpoint_of_another_format_is_refused_naming_both(tmp_path, capsys):
+    """A format-1 checkpoint (before friction) holds no friction and cohesion
+    and, once slip history is recorded, no slip either: refused with exit 2
+    and one line that says which format it is, not "damaged"."""
+    from wingcrack import cli
+    from wingcrack.case import Case
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    path = write_case(tmp_path / "case.toml", steps=3)
+    case = Case.from_toml(path)
+    out = tmp_path / "out"
+    out.mkdir()
+    checkpoint.save(out, case, 0, FractureSet.from_case(case), 1.0, [{"step": 0, "load_factor": 1.0}], None)
+
+    def format_1(meta):
+        meta["version"] = 1
+        for f in meta["fractures"]:
+            del f["friction"], f["cohesion"]
+
+    _edit_meta(out / checkpoint.NAME, format_1)
+    assert cli.main(["run", str(path), "-o", str(out), "--resume", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"wingcrack: error: {out}: {out / checkpoint.NAME} was written by another wingcrack version "
+                   f"(checkpoint format 1, this one reads {checkpoint.VERSION}); start the run again without "
+                   "--resume (with --force)\n"), err
 
 
 @pytest.mark.parametrize("kind", ["folder", "fifo"])

@@ -325,7 +325,8 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     def fractures():
         from .io.pictures import fractures_of_result
 
-        return fractures_of_result(folder / "fractures.png", result)
+        fractures_of_result(folder / "fractures.png", result)
+        return folder / "fractures.png"
 
     def history_png():
         from .io.history import plot_history

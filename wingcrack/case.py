@@ -44,7 +44,7 @@ from wingcrack.propagation.growth_law import length_problem   # the Lmax rule li
 
 PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
-FACES = ("open", "frictionless", "slip")
+FACES = ("open", "frictionless", "slip", "coulomb")
 SLIP_PROFILES = ("uniform", "elliptic")
 LOADS = ("scale", "fixed")
 SIFS = ("correlation", "interaction")
@@ -74,6 +74,9 @@ MAX_ITEMS = 1000
 #: slip or gap as a fraction of the domain size: a strain of 10 % is already
 #: beyond linear elasticity, and every product the solver forms stays finite.
 MAX_STRAIN = 0.1
+#: The largest Coulomb coefficient `friction` may be: far above any measured
+#: one, and small enough that mu times a stress of 0.1 E stays finite.
+MAX_FRICTION = 100.0
 
 
 # ---------------------------------------------------------------- the description
@@ -180,9 +183,11 @@ class Key:
     allowed strings. range: what the meaning allows (a point's components
     each, named by `parts`). limit: the magnitude a case may ask for.
     only_with (key, value): a value other than the default only when that
-    earlier key of the table has that value. min_points with `noun`: the
-    fewest points of a POINTS key. doc: the reference's text; `rule`: what the
-    checks further on ask of it; added: a key wingcrack adds to the contract.
+    earlier key of the table has that value. required_with (key, value):
+    required when that earlier key has that value (elsewhere the default
+    applies). min_points with `noun`: the fewest points of a POINTS key.
+    doc: the reference's text; `rule`: what the checks further on ask of it;
+    added: a key wingcrack adds to the contract.
     """
 
     name: str = ""
@@ -193,6 +198,7 @@ class Key:
     range: Range | None = None
     limit: Limit | None = None
     only_with: tuple[str, str] | None = None
+    required_with: tuple[str, str] | None = None
     parts: tuple[str, ...] = ()
     min_points: int = 0
     noun: str = ""
@@ -276,12 +282,23 @@ class Fracture:
                                  "left of d, and the tip frames and the `end` numbers in `summary.json` follow it.")
     faces: str = key("open", choices=FACES, doc="`open`: traction free, with no contact condition (the faces may "
                      "interpenetrate). `frictionless`: non-penetration w + gap >= 0, no friction. `slip`: "
-                     "non-penetration, and the tangential jump [u].t is prescribed.")
+                     "non-penetration, and the tangential jump [u].t is prescribed. `coulomb`: non-penetration and "
+                     "Coulomb friction, |t_t| <= `cohesion` + `friction` (-t_n) (see \"Coulomb faces\" below).")
     slip: float = key(0.0, unit="m", only_with=("faces", "slip"), doc="Prescribed [u].t = u(+) - u(-) along d. "
                       "The load factor scales it.", limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL))
-    gap: float = key(0.0, unit="m", range=NON_NEGATIVE, doc="Initial normal gap g. It acts on `frictionless` and "
-                     "`slip` faces. It is accepted on `open` faces, where it has no effect.",
+    gap: float = key(0.0, unit="m", range=NON_NEGATIVE, doc="Initial normal gap g. It acts on `frictionless`, "
+                     "`slip` and `coulomb` faces. It is accepted on `open` faces, where it has no effect.",
                      limit=Limit(hi=MAX_STRAIN, of="L", why=_SMALL))
+    friction: float = key(0.0, range=NON_NEGATIVE, only_with=("faces", "coulomb"), required_with=("faces", "coulomb"),
+                          doc="Coulomb coefficient mu of the faces and of the wings the fracture grows. mu = 0 (with "
+                              "`cohesion` 0) gives the `frictionless` result.",
+                          limit=Limit(hi=MAX_FRICTION, why="measured coefficients lie below about 1.5; rock's, by "
+                                                            "Byerlee's rule, at 0.6-0.85"))
+    cohesion: float = key(0.0, unit="Pa", range=NON_NEGATIVE, only_with=("faces", "coulomb"),
+                          doc="Cohesion c of the Coulomb bound, on the faces and the wings: the shear traction closed "
+                              "faces carry without slipping at zero normal traction. The load factor does not scale "
+                              "it.",
+                          limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL))
     grow: bool = key(True, doc="Whether this fracture's tips may grow wing cracks.")
     slip_profile: str = key("uniform", choices=SLIP_PROFILES, only_with=("faces", "slip"), added=True,
                             doc="`uniform`: the same slip everywhere, which acts as a dislocation at the tips, so K "
@@ -691,6 +708,9 @@ class _Table:
         if k.name not in self.data:
             if k.default is REQUIRED:
                 raise CaseError(key, "missing (required table)" if k.type == TABLE else "missing (required)")
+            if k.required_with is not None and (values or {}).get(k.required_with[0]) == k.required_with[1]:
+                other, want = k.required_with
+                raise CaseError(key, f'missing (required with {other} = "{want}")')
             if isinstance(k.default, Ref):
                 return known[k.default.key]
             if k.type == TABLE:  # an optional table left out reads as an empty one

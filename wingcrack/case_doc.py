@@ -33,6 +33,9 @@ def _default(k: Key) -> str:
         return k.default_doc
     if k.default is REQUIRED:
         return "required"
+    if k.required_with is not None:
+        other, want = k.required_with
+        return f'required with `{other} = "{want}"`, else `{_toml(k.default)}`'
     if k.default is None:
         return ""
     if isinstance(k.default, Ref):

@@ -275,6 +275,7 @@ def describe(case) -> str:
     )
     for i, f in enumerate(case.fractures):
         extra = f", slip {_g(f.slip)} m ({f.slip_profile})" if f.faces == "slip" else ""
+        extra += f", friction {_g(f.friction)}, cohesion {_g(f.cohesion)} Pa" if f.faces == "coulomb" else ""
         extra += f", gap {_g(f.gap)} m" if f.gap else ""
         lines.append(
             f"  [{i}] {len(f.points)} points {_pt(f.points[0])} .. {_pt(f.points[-1])}, length {_g(f.length)} m, "

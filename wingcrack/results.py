@@ -53,19 +53,39 @@ class TipRecord(TipValues):
 @dataclass
 class ContactRecord:
     """Contact of a step: face-node pairs, constraint rows, closed normal
-    rows, active-set iterations, and the relative KKT residuals (only when
-    there are rows)."""
+    rows (closed = stick + slip), the pairs in contact that stick and that
+    slip, the contact solver's iterations, the relative KKT residuals (only
+    when there are rows), the relative friction residuals (only with
+    coulomb rows: {bound, at_bound, direction, stick_increment}) and whether
+    the solver fell back to bounded least squares."""
     pairs: int
     rows: int
     closed: int = 0
     iterations: int = 0
     kkt: dict | None = None
+    stick: int = 0
+    slip: int = 0
+    friction: dict | None = None
+    fallback: bool = False
 
     def to_dict(self) -> dict:
-        out = {"pairs": self.pairs, "rows": self.rows, "closed": self.closed, "iterations": self.iterations}
+        out = {"pairs": self.pairs, "rows": self.rows, "closed": self.closed, "stick": self.stick,
+               "slip": self.slip, "iterations": self.iterations, "fallback": self.fallback}
         if self.kkt is not None:
             out["kkt"] = self.kkt
+        if self.friction is not None:
+            out["friction"] = self.friction
         return out
+
+    @classmethod
+    def from_dict(cls, c: dict) -> "ContactRecord":
+        """The record as summary.json holds it; a summary written before
+        friction (no stick, slip, friction, fallback) counts every closed
+        pair as slipping, as frictionless and prescribed-slip pairs are."""
+        closed = c.get("closed", 0)
+        return cls(c["pairs"], c.get("rows", 0), closed, c.get("iterations", 0), c.get("kkt"),
+                   c.get("stick", 0), c.get("slip", closed - c.get("stick", 0)), c.get("friction"),
+                   bool(c.get("fallback", False)))
 
 
 @dataclass
@@ -95,9 +115,7 @@ class StepRecord:
     @classmethod
     def from_dict(cls, d: dict) -> "StepRecord":
         """The record of a step as summary.json (or a checkpoint) holds it."""
-        c = d["contact"]
-        contact = ContactRecord(c["pairs"], c.get("rows", 0), c.get("closed", 0), c.get("iterations", 0),
-                                c.get("kkt"))
+        contact = ContactRecord.from_dict(d["contact"])
         tips = [TipRecord(**{k: t[k] for k in TIP_COLUMNS}, advance=t.get("advance", 0.0),
                           state=t.get("state", "arrested")) for t in d["tips"]]
         return cls(d["step"], d["load_factor"], d["dofs"], d["cells"], tips, contact, dict(d["seconds"]),

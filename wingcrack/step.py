@@ -72,8 +72,24 @@ class Discretisation:
 
     def solve(self, load_factor: float):
         """Displacement at `load_factor`, with contact (the active set) on the
-        faces that have it; the contact result (None without rows)."""
+        faces that have it, friction as one increment from the reference slip
+        (see accept); the contact result (None without rows)."""
         return self.contact.solve(load_factor)
+
+    def accept(self) -> None:
+        """The current solution becomes the converged state the next solve
+        starts from (friction is path dependent; without it nothing changes)."""
+        self.contact.accept()
+
+    def pair_slips(self) -> np.ndarray:
+        """(p,) the slip [u].t of every Coulomb pair at the current solution
+        (0 elsewhere): the history the next mesh carries on."""
+        c = self.contact
+        out = np.zeros(len(self.cm.pairs))
+        if c.result is not None:
+            k = c.rows.coulomb
+            out[c.rows.pair[k]] = c.result.jump[k]
+        return out
 
     def correlation_sifs(self, case):
         """(KI, KII) of every tip by displacement correlation: four nodal
@@ -108,32 +124,60 @@ class Discretisation:
         return (np.array([t.KI if t.KI_M is None else t.KI_M for t in tips], float),
                 np.array([t.KII if t.KII_M is None else t.KII_M for t in tips], float))
 
-    def face_values(self):
-        """(jump (p, 2), normal traction (p,), closed (p,)) of every face-node
-        pair: [u] = u(+) - u(-) (m), sigma_nn (Pa, <= 0 in contact; 0 without
-        a normal row) and whether it is in contact. Collective (the face
-        displacements are gathered)."""
+    def pair_states(self):
+        """(state (p,) int8 OPEN / STICK / SLIP (io.faces), closed (p,) bool:
+        in contact, state != OPEN on a normal row) of every face-node pair,
+        in cm.pairs order. Local (no communication)."""
+        closed = np.zeros(len(self.cm.pairs), bool)
+        c = self.contact
+        if c.result is not None:
+            normal = c.rows.normal
+            closed[c.rows.pair[normal]] = c.result.active[normal]
+        return c.pair_states(len(self.cm.pairs)), closed
+
+    def face_values(self) -> dict:
+        """The faces' values of every face-node pair, in cm.pairs order
+        (io/faces.py writes them): {"jump": (p, 2) [u] = u(+) - u(-) (m),
+        "normal_traction": (p,) t_n (Pa, <= 0 in contact; 0 without a normal
+        row), "tangential_traction": (p,) t_t = -mu_t / weight = t.sigma.n
+        (Pa, the shear stress on the face plane, signed as the slip it
+        drives; 0 without a tangential row), "state" and "closed"
+        (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
+        non-coulomb pairs)}. Collective (the face displacements are
+        gathered)."""
         from .fem.nodal import nodal_displacements
 
         pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
         fm, u = self.problem.fm, self.problem.u
         jump = nodal_displacements(fm, u, pairs[:, 0]) - nodal_displacements(fm, u, pairs[:, 1])
-        traction = np.zeros(len(pairs))
-        closed = np.zeros(len(pairs), bool)
+        normal_traction = np.zeros(len(pairs))
+        tangential_traction = np.zeros(len(pairs))
+        slip_increment = self.contact.slip_increments(len(pairs))
+        state, closed = self.pair_states()
         c = self.contact
         if c.result is not None:
             normal = c.rows.normal
-            traction[c.rows.pair[normal]] = c.normal_traction()[normal]
-            closed[c.rows.pair[normal]] = c.result.active[normal]
-        return jump, traction, closed
+            normal_traction[c.rows.pair[normal]] = c.normal_traction()[normal]
+            tangential = ~normal
+            tangential_traction[c.rows.pair[tangential]] = (-c.result.mu[tangential]
+                                                            / np.maximum(c.rows.weight[tangential], 1e-300))
+        return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
+                "state": state, "slip_increment": slip_increment, "closed": closed}
 
     def contact_record(self) -> ContactRecord:
+        from .io.faces import SLIP, STICK
+
         c = self.contact
         rec = ContactRecord(int(len(self.cm.pairs)), int(len(c.rows)))
         if c.result is not None:
+            state, _ = self.pair_states()
             rec.closed = int(np.sum(c.result.active))
+            rec.stick, rec.slip = int(np.sum(state == STICK)), int(np.sum(state == SLIP))
             rec.iterations = int(c.result.iterations)
             rec.kkt = c.result.kkt_residuals(c.rows.gap, c.rows.normal)
+            rec.fallback = bool(c.result.fallback)
+            if getattr(c.result, "state", None) is not None:
+                rec.friction = c.result.friction_residuals(c.rows.weight)
         return rec
 
     def release(self) -> None:
@@ -172,13 +216,17 @@ def driving(tips: list, case) -> list:
     return out
 
 
-def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT) -> Discretisation:
+def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT,
+               history=None) -> Discretisation:
     """Mesh `fractures` (anything with .points: case Fracture or
     GrowingFracture) in the case's domain, with the bc points as nodes, in
     the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
     loads, the check for pieces nothing holds, assembly, factorisation (with
     the Schur complement on the contact pair dofs) and the contact rows.
-    sizes: the error-estimate size field of the previous step (or None)."""
+    sizes: the error-estimate size field of the previous step (or None);
+    history: the converged slip of the previous step's faces
+    (contact.slip_history.SlipHistory), carried to this mesh's Coulomb pairs
+    by arc length as the reference of the first increment (None: no slip)."""
     from meshing.crack_mesh import crack_mesh
 
     from .contact.constraints import constraint_rows
@@ -208,6 +256,8 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None)
     timer.lap("factorize")
     contact = ContactProblem(problem, rows)
+    if history is not None and contact.has_friction:
+        contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
     return Discretisation(cm, problem, contact)
 
@@ -293,7 +343,7 @@ def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> N
     write_fields(out / fields_name(k), disc.problem, disc.cm, field_data=about)
     faces = disc.face_values()
     if MPI.COMM_WORLD.rank == 0:
-        write_faces(out / faces_name(k), disc.cm, *faces, field_data=about)
+        write_faces(out / faces_name(k), disc.cm, faces, field_data=about)
         write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
         write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
 

@@ -3,10 +3,13 @@
 Each pair (plus, minus) of coinciding nodes on the + and - faces gives
 - a normal row: the opening w = (u+ - u-).n, with n the unit left normal of
   the fracture direction (pointing from the - face into the + side);
-  non-penetration w + g >= 0 (g the initial gap), on "frictionless" and
-  "slip" faces;
-- a tangential row (only on "slip" faces): the slip s = (u+ - u-).t,
-  t = fracture direction, equals the prescribed slip times the load factor.
+  non-penetration w + g >= 0 (g the initial gap), on "frictionless",
+  "slip" and "coulomb" faces;
+- a tangential row on "slip" faces: the slip s = (u+ - u-).t,
+  t = fracture direction, equals the prescribed slip times the load factor;
+- a tangential row on "coulomb" faces (normal row first, then this one):
+  the friction law on the slip increment (contact.friction), with the
+  fracture's friction coefficient and cohesion (wings: the same).
 Pairs on "open" faces carry no row. Tips are not pairs.
 
 Multipliers mu act as nodal forces +mu v on the + node and -mu v on the -
@@ -37,13 +40,31 @@ class ConstraintRows:
     slip: np.ndarray       # (m,) prescribed slip at load factor 1 (tangential rows)
     weight: np.ndarray     # (m,) tributary length of the pair's nodes (m)
     position: np.ndarray   # (m, 2)
+    coulomb: np.ndarray = None    # (m,) bool: tangential rows under the friction law
+    partner: np.ndarray = None    # (m,) a Coulomb row's normal row (-1 elsewhere)
+    friction: np.ndarray = None   # (m,) mu_f on Coulomb rows (0 elsewhere)
+    cohesion: np.ndarray = None   # (m,) c (Pa) on Coulomb rows (0 elsewhere)
 
     def __len__(self):
         return len(self.plus)
 
+    def __post_init__(self):
+        m = len(self.plus)
+        if self.coulomb is None:
+            self.coulomb = np.zeros(m, bool)
+            self.partner = np.full(m, -1, np.int64)
+            self.friction = np.zeros(m)
+            self.cohesion = np.zeros(m)
+
     @property
     def normal(self) -> np.ndarray:
         return self.kind == NORMAL
+
+    def friction_law(self):
+        """contact.friction.FrictionRows of these rows."""
+        from .friction import FrictionRows
+
+        return FrictionRows(self.coulomb, self.partner, self.friction, self.cohesion * self.weight)
 
 
 def _gauss3():
@@ -175,9 +196,11 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
     normals = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
     w_pair = pair_tributary_lengths(cm, pfrac)
-    rows = {k: [] for k in ("plus", "minus", "direction", "kind", "pair", "fracture", "gap", "slip", "weight", "position")}
+    rows = {k: [] for k in ("plus", "minus", "direction", "kind", "pair", "fracture", "gap", "slip", "weight", "position",
+                            "coulomb", "partner", "friction", "cohesion")}
 
-    def add(i, v, kind, gap, slip, weight=None):
+    def add(i, v, kind, gap, slip, weight=None, law=None):
+        """law: (normal row, friction, cohesion) of a Coulomb row."""
         plus, minus = pairs[i]
         rows["plus"].append(plus)
         rows["minus"].append(minus)
@@ -189,6 +212,10 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
         rows["slip"].append(slip)
         rows["weight"].append(w_pair[i] if weight is None else weight)
         rows["position"].append(cm.x[plus])
+        rows["coulomb"].append(law is not None)
+        rows["partner"].append(-1 if law is None else law[0])
+        rows["friction"].append(0.0 if law is None else law[1])
+        rows["cohesion"].append(0.0 if law is None else law[2])
 
     x = np.asarray(cm.x)
     tol = 1e-9 * float(np.ptp(x, axis=0).max()) if len(x) else 0.0
@@ -223,15 +250,21 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
                         w_of[g] = pair_tributary_lengths(cm, np.full(len(pairs), g))
                     add(i, n_g, NORMAL, gap, 0.0, weight=w_of[g][i])
             n = used[0]
+            first = len(rows["plus"]) - len(used)
         else:
+            first = len(rows["plus"])
             add(i, n, NORMAL, gap, 0.0)
+        t = np.array([n[1], -n[0]])
         if faces == "slip":
-            t = np.array([n[1], -n[0]])
             add(i, t, TANGENTIAL, 0.0, slip_profile(f, x[pairs[i, 0]], pts))
+        elif faces == "coulomb":
+            add(i, t, TANGENTIAL, 0.0, 0.0, law=(first, float(f.friction), float(f.cohesion)))
     m = len(rows["plus"])
     return ConstraintRows(
         plus=np.array(rows["plus"], dtype=np.int64), minus=np.array(rows["minus"], dtype=np.int64),
         direction=np.array(rows["direction"], float).reshape(m, 2), kind=np.array(rows["kind"], dtype=np.int8),
         pair=np.array(rows["pair"], dtype=np.int64), fracture=np.array(rows["fracture"], dtype=np.int64),
         gap=np.array(rows["gap"], float), slip=np.array(rows["slip"], float),
-        weight=np.array(rows["weight"], float), position=np.array(rows["position"], float).reshape(m, 2))
+        weight=np.array(rows["weight"], float), position=np.array(rows["position"], float).reshape(m, 2),
+        coulomb=np.array(rows["coulomb"], bool), partner=np.array(rows["partner"], dtype=np.int64),
+        friction=np.array(rows["friction"], float), cohesion=np.array(rows["cohesion"], float))

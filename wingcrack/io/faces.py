@@ -1,48 +1,88 @@
-"""The fracture faces as a polyline file: opening, slip, normal traction and
-contact state at every face node of the + face (VTU through meshio)."""
+"""The fracture faces as a polyline file (VTU through meshio): at every face
+node of the + face, the opening, slip, tractions, contact state and slip
+increment of its face-node pair.
+
+Point data of faces_XXXX.vtu (zero at the tips, which are not pairs):
+
+    opening              w = [u].n (m, > 0 open)
+    slip                 s = [u].t (m)
+    normal_traction      t_n = sigma_nn = n.sigma.n (Pa, <= 0 in contact; 0 without
+                         a normal row)
+    tangential_traction  t_t = sigma_nt = t.sigma.n (Pa; 0 without a tangential
+                         row): the shear stress on the face plane, signed as the
+                         slip it drives; the - side's friction on the + face,
+                         -t_t t, opposes the slip increment, so t_t has its sign
+    slip_increment       s - s_reference (m): the slip since the last converged
+                         state, what the friction law acted on (0 on non-coulomb pairs)
+    state                OPEN = 0, STICK = 1, SLIP = 2 (Int8), the codes of
+                         wingcrack.contact.friction; the file's field data
+                         repeat them as state_open, state_stick, state_slip
+    closed               1.0 where the pair is in contact (stick or slip), else 0.0
+
+[u] = u(+) - u(-), n the pair normal (left normal of the fracture direction
+d), t = d (docs/architecture.md). Frictionless and prescribed-slip pairs in
+contact are SLIP (their tangential traction is 0, the bound, or prescribed);
+pairs without a contact row are OPEN.
+"""
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
 
+#: the contact state of a pair (the codes of wingcrack.contact.friction)
+OPEN, STICK, SLIP = 0, 1, 2
+STATE_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
+#: what a face file's field data say about the state codes
+STATE_CODES = {f"state_{name}": code for code, name in STATE_NAMES.items()}
+#: the face values (step.Discretisation.face_values) a face file holds per node
+FLOAT_FIELDS = ("opening", "slip", "normal_traction", "tangential_traction", "slip_increment", "closed")
 
-def face_state(cm, jump, traction, closed) -> dict:
+
+def face_state(cm, values: dict) -> dict:
     """Per pair of `cm` (a CrackMesh): position, opening w = [u].n, slip
-    s = [u].t (m), normal traction sigma_nn (Pa, <= 0 in contact) and
-    closed (bool), from the pairs' displacement jumps [u] (p, 2), normal
-    tractions (p,) and closed flags (p,) (step.Discretisation.face_values)."""
+    s = [u].t (m), normal and tangential traction (Pa), slip increment (m),
+    state (int8) and closed (bool), from the face values of
+    step.Discretisation.face_values: {"jump": (p, 2) [u], "normal_traction",
+    "tangential_traction", "state", "slip_increment", "closed": (p,)}."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     t = np.c_[n[:, 1], -n[:, 0]]
-    jump = np.asarray(jump, float).reshape(-1, 2)
+    jump = np.asarray(values["jump"], float).reshape(-1, 2)
+    state = np.asarray(values["state"], dtype=np.int8)
+    if state.size and not np.isin(state, list(STATE_NAMES)).all():
+        raise ValueError(f"face states must be {OPEN} (open), {STICK} (stick) or {SLIP} (slip), "
+                         f"not {sorted(set(state.tolist()) - set(STATE_NAMES))}")
     return {"position": np.asarray(cm.x)[pairs[:, 0]], "opening": np.sum(jump * n, axis=1),
-            "slip": np.sum(jump * t, axis=1), "normal_traction": np.asarray(traction, float),
-            "closed": np.asarray(closed, bool), "plus": pairs[:, 0]}
+            "slip": np.sum(jump * t, axis=1), "normal_traction": np.asarray(values["normal_traction"], float),
+            "tangential_traction": np.asarray(values["tangential_traction"], float),
+            "slip_increment": np.asarray(values["slip_increment"], float), "state": state,
+            "closed": np.asarray(values["closed"], bool), "plus": pairs[:, 0]}
 
 
-def write_faces(path: Path, cm, jump, traction, closed, field_data: dict | None = None) -> Path:
+def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) -> Path:
     """line3 cells of the + faces of `cm`; point data at the + face nodes
-    (zero at tips, which are not pairs) from the pair values of face_state;
-    `field_data` ({name: number}) as in write_fields."""
+    (see the module doc; zero, OPEN, at tips, which are not pairs) from the
+    pair values of face_state; `field_data` ({name: number}) as in
+    write_fields, and the state codes."""
     import meshio
 
     from .pvd import add_field_data
 
-    st = face_state(cm, jump, traction, closed)
+    st = face_state(cm, values)
     edges = np.asarray(cm.crack_edges, dtype=np.int64)
     nodes, local = np.unique(edges, return_inverse=True)
-    index = {int(v): i for i, v in enumerate(nodes)}
-    data = {k: np.zeros(len(nodes)) for k in ("opening", "slip", "normal_traction", "closed")}
-    for j, p in enumerate(st["plus"]):
-        i = index.get(int(p))
-        if i is not None:
-            for k in data:
-                data[k][i] = float(st[k][j])
+    # the + node of each pair among the face nodes (every + node is one)
+    where = np.minimum(np.searchsorted(nodes, st["plus"]), max(len(nodes) - 1, 0))
+    on_face = (nodes[where] == st["plus"]) if len(nodes) else np.zeros(len(st["plus"]), bool)
+    data = {k: np.zeros(len(nodes)) for k in FLOAT_FIELDS}
+    for k in data:
+        data[k][where[on_face]] = st[k][on_face]
+    data["state"] = np.full(len(nodes), OPEN, dtype=np.int8)
+    data["state"][where[on_face]] = st["state"][on_face]
     pts = np.c_[np.asarray(cm.x)[nodes], np.zeros(len(nodes))]
     frac = np.asarray(cm.crack_fracture, dtype=np.int64)
     meshio.Mesh(pts, [("line3", local.reshape(-1, 3))], point_data=data,
                 cell_data={"fracture": [frac]}).write(Path(path))
-    if field_data:
-        add_field_data(path, field_data)
+    add_field_data(path, {**(field_data or {}), **STATE_CODES})
     return Path(path)

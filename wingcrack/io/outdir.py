@@ -54,7 +54,8 @@ def fields_name(step: int) -> str:
 
 
 def faces_name(step: int) -> str:
-    """The fracture-face file of a run's step (opening, slip, contact)."""
+    """The fracture-face file of a run's step (opening, slip, tractions,
+    contact state open / stick / slip, slip increment: io/faces.py)."""
     return f"faces_{step:04d}.vtu"
 
 
@@ -201,16 +202,42 @@ class StoredResult:
         return StepFields(np.asarray(mesh.points)[:, :2], tri6, np.asarray(mesh.point_data["von_mises"], float))
 
     def faces_of(self, k: int) -> "StepFaces":
-        """The fracture faces of step k (from its face file)."""
+        """The fracture faces of step k (from its face file). A face file
+        written before friction has no state, tangential traction or slip
+        increment: its pairs in contact are SLIP (frictionless or prescribed
+        slip, as they were), the others OPEN, and the two fields are absent."""
+        from .faces import FLOAT_FIELDS, OPEN, SLIP, STATE_NAMES
+
         if not self.summary.get("fractures"):
             # a case without fractures: its face file has no cells, which meshio writes but cannot read
-            return StepFaces(np.zeros((0, 3, 2)), np.zeros(0, dtype=bool))
+            return StepFaces(np.zeros((0, 3, 2)), np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int8),
+                             {"state": np.zeros((0, 3), dtype=np.int8)})
         mesh = _read(self.faces[k])
-        line3 = _cells(mesh, "line3", self.faces[k])
+        line3 = _cells(mesh, "line3", self.faces[k])[:, [0, 2, 1]]   # line3 nodes are [a, b, mid]: a -> mid -> b
         x = np.asarray(mesh.points)[:, :2]
-        closed = np.asarray(mesh.point_data.get("closed", np.zeros(len(x))), float) > 0.5
-        # line3 nodes are [a, b, mid]: draw a -> mid -> b
-        return StepFaces(x[line3[:, [0, 2, 1]]], closed[line3[:, 0]] & closed[line3[:, 1]])
+        data = mesh.point_data
+        closed = np.asarray(data.get("closed", np.zeros(len(x))), float) > 0.5
+        if "state" in data:
+            state = np.rint(np.asarray(data["state"], float)).astype(np.int8)
+            if not np.isin(state, list(STATE_NAMES)).all():
+                raise FolderError(self.faces[k], "not a wingcrack face file (a state that is not 0, 1 or 2)")
+        else:
+            state = np.where(closed, SLIP, OPEN).astype(np.int8)
+        values = {name: np.asarray(data[name], float)[line3] for name in FLOAT_FIELDS if name in data}
+        values["state"] = state[line3]
+        return StepFaces(x[line3], closed[line3[:, 0]] & closed[line3[:, 2]], edge_states(state[line3]), values)
+
+
+def edge_states(node_states: np.ndarray) -> np.ndarray:
+    """(k,) state of each face edge from the states (k, 3) of its nodes: OPEN
+    unless both end nodes are in contact (a tip node never is); then SLIP
+    when a node of it slips, else STICK (a sticking edge has no slip
+    increment anywhere)."""
+    from .faces import OPEN, SLIP, STICK
+
+    s = np.asarray(node_states).reshape(-1, 3)
+    closed = (s[:, 0] != OPEN) & (s[:, 2] != OPEN)
+    return np.where(closed, np.where(np.any(s == SLIP, axis=1), SLIP, STICK), OPEN).astype(np.int8)
 
 
 @dataclass
@@ -229,10 +256,16 @@ class StepFields:
 
 @dataclass
 class StepFaces:
-    """lines (k, 3, 2): each face edge (+ side) as a 3-point polyline;
-    closed (k,): both end nodes in contact."""
+    """lines (k, 3, 2): each face edge (+ side) as a 3-point polyline (end,
+    mid, end); closed (k,): both end nodes in contact; state (k,): the
+    edge's OPEN / STICK / SLIP (io.faces; edge_states); values: the face
+    file's point data at the lines' nodes, {name: (k, 3)}: "state" (int8)
+    always, and opening, slip, normal_traction, tangential_traction,
+    slip_increment, closed as far as the file holds them (io/faces.py)."""
     lines: np.ndarray
     closed: np.ndarray
+    state: np.ndarray
+    values: dict
 
 
 def _read(path):

@@ -1,7 +1,9 @@
 """fractures.png: the outer boundary, every fracture, the tips and their
-rosettes; for a run, the wings coloured by the step that grew them and the
-faces in contact at the last step. Drawn from a result folder
-(fractures_of_result), for `sif`, `run` and `wingcrack plot` alike."""
+rosettes; for a run, the wings coloured by the step that grew them; and the
+contact state of the faces at the last step, open, stick or slip, as a
+thick translucent band under the fracture lines (one colour and one legend
+entry per state present). Drawn from a result folder (fractures_of_result),
+for `sif`, `run` and `wingcrack plot` alike."""
 from __future__ import annotations
 
 import textwrap
@@ -9,17 +11,27 @@ from pathlib import Path
 
 import numpy as np
 
+from .faces import OPEN, SLIP, STICK
 
-def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, closed_segments=(), title: str = "",
-                   mesh=None, growth=(), boundary=None) -> Path:
-    """Draw the outer boundary and the fractures.
+#: the band of each face state: colour (Okabe-Ito, told apart by colour-blind
+#: readers and kept off viridis' step colours by the band's width) and legend label
+FACE_BANDS = {OPEN: ("#56B4E9", "faces open"), STICK: ("#009E73", "faces stick"), SLIP: ("#D55E00", "faces slip")}
+
+
+def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_lines=(), face_states=(),
+                   title: str = "", mesh=None, growth=(), boundary=None) -> dict:
+    """Draw the outer boundary and the fractures, and return what was drawn:
+    {"faces open" / "faces stick" / "faces slip": (k, 3, 2) the face edges
+    banded in that state, read back from the figure (only states present),
+    "legend": the labels of the legend, in order}.
 
     boundary: (k, 2, 2) segments of the outer boundary; fractures: list of dicts {"points": (n,2), "origin":
     "pre-existing"|"wing"}; tips: list of dicts with "x", "y";
-    closed_segments: polylines ((x0,y0),(x1,y1),...) drawn over the
-    fractures where the faces are in contact; mesh: anything with x (n, 2)
-    and cells (m, >=3), drawn in the zoom; growth: [((x0,y0), (x1,y1),
-    step)], what each step grew, coloured by step.
+    face_lines: (k, 3, 2) face edges as 3-point polylines and face_states
+    (k,) their OPEN / STICK / SLIP (io.outdir.StepFaces), drawn as bands
+    under the fractures; mesh: anything with x (n, 2) and cells (m, >=3),
+    drawn in the zoom; growth: [((x0,y0), (x1,y1), step)], what each step
+    grew, coloured by step.
     """
     import matplotlib
     matplotlib.use("Agg")
@@ -35,9 +47,22 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, closed_
     steps = np.array([g[2] for g in growth], float)
     n = int(steps.max()) + 1 if len(growth) else 1
     colours = plt.get_cmap("viridis", n)   # one colour a step
+    face_lines = np.asarray(face_lines, float).reshape(-1, 3, 2)
+    face_states = np.asarray(face_states).reshape(-1)
+    if len(face_states) != len(face_lines):
+        raise ValueError(f"{len(face_lines)} face edges but {len(face_states)} states")
+    bands = {}   # label -> the band's collection in ax_full
     for ax in (ax_full, ax_zoom):
         if boundary is not None and len(boundary):
             ax.add_collection(LineCollection(boundary, colors="0.35", linewidths=1.2))
+        for state, (colour, label) in FACE_BANDS.items():
+            edges = face_lines[face_states == state]
+            if len(edges):
+                # under the fracture lines (zorder 2), wide enough to show past them
+                band = ax.add_collection(LineCollection(edges, colors=colour, linewidths=7.0, alpha=0.5,
+                                                        capstyle="butt", zorder=1.5, label=label))
+                if ax is ax_full:
+                    bands[label] = band
         for f in fractures:
             p = np.asarray(f["points"], float)
             pre = f.get("origin", "pre-existing") == "pre-existing"
@@ -49,9 +74,6 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, closed_
                                    norm=plt.Normalize(-0.5, n - 0.5))
             lines.set_array(steps)
             ax.add_collection(lines)
-        for seg in closed_segments:
-            seg = np.asarray(seg, float)
-            ax.plot(seg[:, 0], seg[:, 1], color="tab:blue", lw=3.5, alpha=0.5, label="closed faces")
         for t in tips:
             ax.plot(t["x"], t["y"], "o", ms=4, color="tab:orange")
             if rosette > 0:
@@ -71,36 +93,37 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, closed_
         ax_zoom.set_title("fractures and mesh (zoom); circles: tip rosettes", fontsize=10)
     handles, labels = ax_full.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
-    if uniq:
-        ax_full.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8)
+    uniq = {k: uniq[k] for k in sorted(uniq, key=lambda k: k in bands)}   # the fractures first, then the faces
+    legend = ax_full.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8) if uniq else None
     fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
+    drawn = {label: np.asarray(band.get_segments(), float).reshape(-1, 3, 2) for label, band in bands.items()}
+    drawn["legend"] = [t.get_text() for t in legend.get_texts()] if legend is not None else []
+    fig.savefig(Path(path), dpi=110)
     plt.close(fig)
-    return path
+    return drawn
 
 
-def fractures_of_result(path: Path, result) -> Path:
+def fractures_of_result(path: Path, result) -> dict:
     """fractures.png of a result folder (an io.outdir.StoredResult): the
     final fractures from summary.json, the wings coloured by step, and, from
-    the last step's files, the mesh, the outer boundary and the closed faces."""
+    the last step's files, the mesh, the outer boundary and the faces' open,
+    stick and slip parts; what plot_fractures drew."""
     s = result.summary
     steps = s["steps"]
     mesh = boundary = None
-    closed, tips = [], []
+    lines, states, tips = np.zeros((0, 3, 2)), np.zeros(0, np.int8), []
     if steps:
         mesh = result.fields_of(len(steps) - 1)
         faces = result.faces_of(len(steps) - 1)
         boundary = outer_boundary(mesh.x, mesh.triangles)
-        closed = faces.lines[faces.closed]
+        lines, states = faces.lines, faces.state
         tips = [{"x": t["x"], "y": t["y"]} for t in steps[-1]["tips"]]
     rosette = _rosette(mesh, tips)   # measured on the last step's mesh, at its tips
     title = f"{s['title']}: {len(steps)} step{'s' if len(steps) != 1 else ''}"
     if s["status"] != "finished":
         title += "\n" + textwrap.shorten(s["status"], 70)
-    return plot_fractures(path, s["fractures"], tips=_tips_at_end(s), rosette=rosette,
-                          closed_segments=closed, title=title, mesh=mesh, growth=growth_segments(s),
-                          boundary=boundary)
+    return plot_fractures(path, s["fractures"], tips=_tips_at_end(s), rosette=rosette, face_lines=lines,
+                          face_states=states, title=title, mesh=mesh, growth=growth_segments(s), boundary=boundary)
 
 
 def _tips_at_end(summary: dict) -> list:

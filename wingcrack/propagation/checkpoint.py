@@ -3,13 +3,15 @@
 
 OUT/checkpoint.npz holds what the next step needs and nothing it can
 recompute: the fracture set (polylines, pre-existing range, end states,
-faces), the load factor, the finished steps' records, and the error-estimate
-size field of the next mesh (so that a resumed run meshes exactly as an
-uninterrupted one). It is written atomically (temporary file, fsync,
-rename): a kill leaves the previous checkpoint or the new one, never half of
-one. A fingerprint of the case (everything but propagation.steps, so a run
-may also be resumed with more steps, and the file's path) guards against
-resuming another case.
+faces, friction and cohesion), the load factor, the finished steps'
+records, and the error-estimate size field of the next mesh (so that a
+resumed run meshes exactly as an uninterrupted one). It is written
+atomically (temporary file, fsync, rename): a kill leaves the previous
+checkpoint or the new one, never half of one. A fingerprint of the case
+(everything but propagation.steps, so a run may also be resumed with more
+steps, and the file's path) guards against resuming another case. A
+checkpoint of another format VERSION (version 1 held no friction) is
+refused, naming both versions.
 """
 from __future__ import annotations
 
@@ -23,10 +25,12 @@ from pathlib import Path
 import numpy as np
 
 from ..io.atomic import write_atomic
+from ..contact.slip_history import SlipHistory
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
-VERSION = 1
+#: 2: the fractures' friction and cohesion (issue 14).
+VERSION = 2
 
 
 def fingerprint(case) -> str:
@@ -48,22 +52,26 @@ def _plain(obj):
     return repr(obj)
 
 
-def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes) -> None:
+def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None) -> None:
+    """history: the converged slip of the Coulomb faces (SlipHistory, or None)."""
     meta = {
         "version": VERSION, "case": fingerprint(case), "step": k, "load_factor": lam, "steps": steps,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
-                       "slip_profile": f.slip_profile, "grow": f.grow} for f in fset.fractures],
+                       "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion}
+                      for f in fset.fractures],
     }
     arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
     if sizes is not None:
         arrays["size_triangles"], arrays["size_values"] = sizes
+    if history is not None:
+        arrays.update(history.to_arrays())
     buf = io.BytesIO()   # built in memory: an interrupt here leaves no file and no open zip on disk
     np.savez(buf, meta=np.array(json.dumps(meta, default=_plain)), **arrays)
     write_atomic(Path(out) / NAME, buf.getvalue())
 
 
 def load(out, case) -> dict:
-    """{'step', 'load_factor', 'steps', 'fset', 'sizes'} of the checkpoint in
+    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history'} of the checkpoint in
     `out`; ValueError naming the file and the reason when there is none, it
     cannot be read (truncated, empty, not a checkpoint, keys missing) or it
     belongs to another case."""
@@ -79,17 +87,24 @@ def load(out, case) -> dict:
             points = [np.array(data[f"points_{i}"]) for i in range(len(meta["fractures"]))]
             sizes = (np.array(data["size_triangles"]), np.array(data["size_values"])) \
                 if "size_triangles" in data else None
+            slip = {name: np.array(data[name]) for name in data.files if name.startswith("slip_")}
+            history = SlipHistory.from_arrays(slip) if slip else None
     except Exception as err:  # noqa: BLE001 - a damaged file fails in numpy, zipfile, zlib or json in any way
         raise ValueError(f"{path} cannot be read as a checkpoint ({_reason(err)}); "
                          "start the run again without --resume (with --force)") from None
-    if not isinstance(meta, dict) or meta.get("version") != VERSION or meta.get("case") != fingerprint(case):
+    if isinstance(meta, dict) and meta.get("version") != VERSION:
+        raise ValueError(f"{path} was written by another wingcrack version (checkpoint format "
+                         f"{meta.get('version')!r}, this one reads {VERSION}); "
+                         "start the run again without --resume (with --force)")
+    if not isinstance(meta, dict) or meta.get("case") != fingerprint(case):
         raise ValueError(f"{path} was written for another case (or another wingcrack version)")
     try:
         fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"],
-                                     m["slip"], m["slip_profile"], m["grow"])
+                                     m["slip"], m["slip_profile"], m["grow"],
+                                     _coefficient(m, "friction"), _coefficient(m, "cohesion"))
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
-                 "fset": FractureSet(fractures), "sizes": sizes}
+                 "fset": FractureSet(fractures), "sizes": sizes, "history": history}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "
@@ -116,6 +131,15 @@ def _points(p) -> np.ndarray:
     if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.all(np.isfinite(p)):
         raise ValueError(f"a polyline of shape {p.shape}")
     return p
+
+
+def _coefficient(m: dict, name: str) -> float:
+    """A fracture's friction or cohesion: finite and >= 0, as the case reader
+    asks (a NaN would pass into the friction bound unseen)."""
+    v = m[name]
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} {v!r} is not a finite number >= 0")
+    return float(v)
 
 
 def _reason(err: BaseException) -> str:

@@ -8,6 +8,10 @@ load factor is found directly:
 - otherwise a safeguarded secant (Illinois) iteration on the piecewise
   linear f(lambda) = max K_eq(lambda) - KIc, bracketed by doubling, to a
   relative tolerance of 1e-6.
+With friction the response depends on the load path: the search goes
+forward from the last converged state, and every trial that becomes the
+bracket's lower end is accepted (`accept`) as the state the next trials
+start from; a trial above the critical load is never a starting state.
 """
 from __future__ import annotations
 
@@ -33,11 +37,15 @@ def scales_with_load(case, fset) -> bool:
 
 
 def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,
-                         homogeneous: bool, limit: float, rtol: float = 1e-6) -> CriticalLoad:
+                         homogeneous: bool, limit: float, rtol: float = 1e-6,
+                         accept: Callable[[], None] | None = None) -> CriticalLoad:
     """keq(lam) -> largest K_eq over the growing tips at load factor lam.
+    accept(): the last keq solve becomes the state later solves start from
+    (friction); called on each lower end of the bracket.
 
     The load only rises: the result is >= start. If K_eq(start) >= KIc, the
     answer is start."""
+    accept = accept or (lambda: None)
     solves = 0
     if homogeneous:
         k = keq(1.0)
@@ -51,6 +59,7 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
     solves += 1
     if f_lo >= 0:
         return CriticalLoad(lo, solves)
+    accept()
     hi = max(2.0 * lo, lo + 1.0) if lo > 0 else 1.0
     while True:
         f_hi = keq(hi) - KIc
@@ -59,6 +68,7 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
             break
         if hi >= limit:
             return CriticalLoad(None, solves)
+        accept()
         lo, f_lo = hi, f_hi
         hi = min(2.0 * hi, limit)
     # Illinois: secant with the retained end's value halved when it repeats
@@ -75,6 +85,7 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
                 f_lo *= 0.5
             side = 1
         else:
+            accept()
             lo, f_lo = lam, f
             if side == -1:
                 f_hi *= 0.5

@@ -15,6 +15,10 @@ import numpy as np
 
 @dataclass
 class GrowingFracture:
+    """One fracture of the network. faces, gap, slip, slip_profile, grow,
+    friction (Coulomb mu) and cohesion (Pa) are the case fracture's; the
+    wings take wing_faces() with the same friction and cohesion."""
+
     points: np.ndarray
     pre: tuple[int, int]
     ends: list          # [state of end 0, state of end 1]
@@ -23,6 +27,8 @@ class GrowingFracture:
     slip: float
     slip_profile: str
     grow: bool
+    friction: float = 0.0
+    cohesion: float = 0.0
 
     @property
     def pre_points(self) -> np.ndarray:
@@ -30,8 +36,12 @@ class GrowingFracture:
 
     def wing_faces(self) -> str:
         """Wings are tensile cracks (paper eq. 8); where the fracture has
-        contact, they get non-penetration too (frictionless), never slip."""
-        return "open" if self.faces == "open" else "frictionless"
+        contact, they get non-penetration too, never a prescribed slip: on a
+        coulomb fracture with its friction and cohesion (friction acts on
+        every face, wings included), frictionless otherwise."""
+        if self.faces in ("open", "coulomb"):
+            return self.faces
+        return "frictionless"
 
     def tip(self, end: int) -> np.ndarray:
         return self.points[-1] if end == 1 else self.points[0]
@@ -74,7 +84,7 @@ class FractureSet:
             pts = np.asarray(f.points, float).copy()
             ends = ["boundary" if case.domain.on_boundary(p, tol) else "tip" for p in (pts[0], pts[-1])]
             out.append(GrowingFracture(pts, (0, len(pts) - 1), ends, f.faces, f.gap, f.slip,
-                                       f.slip_profile, f.grow))
+                                       f.slip_profile, f.grow, f.friction, f.cohesion))
         return cls(out)
 
     def polylines(self) -> list:

@@ -138,12 +138,14 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     disc = None
     shown = None   # the discretisation of the last recorded step, while it is not released
     sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
+    history = None   # the converged slip of the faces (friction), carried to the next mesh
     first = 0
     if resume:
         if out is None:
             raise ValueError("resume needs the output folder of the run")
         ck = checkpoint.load(out, case)
         fset, lam, sizes, first = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
+        history = ck["history"]
         records = [StepRecord.from_dict(s) for s in ck["steps"]]
 
     done = fset.copy()   # the fractures after the last finished step
@@ -168,7 +170,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 break
             _release(disc)   # the previous step's factors and forms
             disc = shown = None
-            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout)
+            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history)
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
             if not grow:
@@ -188,6 +190,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             interrupt.check()
             tips = disc.sifs(case, fset.polylines())
             timer.lap("sif")
+            # the converged slip along the fractures as meshed (before they grow): the next mesh's reference
+            converged = _slip_history(disc, fset)
 
             candidates = growth.candidates(tips, disc.cm, grow)
             if prop.load == "fixed" and not growth.reached(candidates, rule).any():
@@ -215,9 +219,10 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 records.append(record)
                 shown = disc
                 done = fset.copy()
+                history = converged
                 write("running")
                 if out is not None and comm.rank == 0:
-                    checkpoint.save(out, case, k, fset, lam, [r.to_dict() for r in records], sizes)
+                    checkpoint.save(out, case, k, fset, lam, [r.to_dict() for r in records], sizes, history)
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
             write(status)
@@ -253,9 +258,21 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     return result
 
 
+def _slip_history(disc, fset):
+    """The converged slip of the Coulomb faces of `disc` along the fractures
+    of `fset` as they were meshed (None without friction)."""
+    if not disc.contact.has_friction:
+        return None
+    from ..contact.slip_history import SlipHistory
+
+    return SlipHistory.record(disc.cm, fset.fractures, disc.pair_slips())
+
+
 def _critical_load(case, disc, fset, grow, start):
     """critical_load.CriticalLoad: the load factor (>= start) at which the
-    first of the tips `grow` reaches KIc, by the SIFs that drive growth."""
+    first of the tips `grow` reaches KIc, by the SIFs that drive growth.
+    With friction every trial starts from the bracket's lower end (accepted
+    there), and the response scales with the load only from zero slip."""
     polylines = fset.polylines()
 
     def keq(load):
@@ -267,7 +284,10 @@ def _critical_load(case, disc, fset, grow, start):
         return k
 
     prop = case.propagation
-    return critical_load_factor(keq, case.material.KIc, start, scales_with_load(case, fset), prop.max_load_factor)
+    rows = disc.contact.rows
+    homogeneous = scales_with_load(case, fset) and not np.any(disc.contact.reference) and not np.any(rows.cohesion)
+    return critical_load_factor(keq, case.material.KIc, start, homogeneous, prop.max_load_factor,
+                                accept=disc.accept)
 
 
 def _release(disc):

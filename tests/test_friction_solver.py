@@ -1,0 +1,130 @@
+"""The three-state active set of contact.friction on small pair systems,
+against closed-form one-pair solutions, against its own fallback (a second
+method: the fixed point of bounded least-squares Tresca problems) and
+against the frictionless solver at mu = c = 0."""
+import numpy as np
+import pytest
+
+from wingcrack.contact.active_set import solve_active_set
+from wingcrack.errors import ComputationError
+from wingcrack.contact.friction import OPEN, SLIP, STICK, FrictionRows, _fixed_point, solve_friction
+
+
+def _law(p, f, c_force):
+    """Rows ordered (normal, tangential) per pair."""
+    m = 2 * p
+    coulomb = np.zeros(m, bool)
+    coulomb[1::2] = True
+    partner = np.full(m, -1, np.int64)
+    partner[1::2] = np.arange(0, m, 2)
+    fr = np.zeros(m)
+    fr[1::2] = f
+    cf = np.zeros(m)
+    cf[1::2] = c_force
+    return FrictionRows(coulomb, partner, fr, cf), np.arange(m) % 2 == 0
+
+
+def _compliance(p, rng):
+    """An SPD compliance like a pair system's: coupling decays with distance."""
+    m = 2 * p
+    x = np.repeat(np.arange(p), 2).astype(float)
+    S = np.exp(-np.abs(x[:, None] - x[None, :]) / 2.0) * (1 + 0.1 * np.cos(np.add.outer(np.arange(m), np.arange(m))))
+    S = 0.5 * (S + S.T) + m * 0.05 * np.eye(m)
+    Q = rng.normal(size=(m, m)) * 0.05
+    return S + Q @ Q.T
+
+
+def _one_pair(S, jump0, g, s_ref, f, b0):
+    """Closed form for one pair in contact: stick if the stick force is
+    inside the bound, else slip in the direction of the free increment."""
+    t = np.array([-g, s_ref])
+    mu = np.linalg.solve(S, t - jump0)
+    if abs(mu[1]) <= b0 + f * mu[0]:
+        return mu, STICK
+    sigma = -np.sign(mu[1])          # the friction force opposes the increment
+    # S_nn mu_n + S_nt mu_t = -g - jn, mu_t = -sigma (b0 + f mu_n)
+    a = S[0, 0] - S[0, 1] * sigma * f
+    mu_n = (-g - jump0[0] + S[0, 1] * sigma * b0) / a
+    return np.array([mu_n, -sigma * (b0 + f * mu_n)]), SLIP
+
+
+@pytest.mark.parametrize("f, b0, expected", [(0.2, 0.0, SLIP), (0.4, 0.0, SLIP), (0.5, 0.0, STICK),
+                                              (0.2, 0.5, STICK), (0.0, 0.0, SLIP)])
+def test_one_pair_matches_the_closed_form(f, b0, expected):
+    S = np.array([[1.0, 0.3], [0.3, 2.0]])
+    jump0 = np.array([-1.0, 0.8])     # penetrates, and would slip by 0.8 without contact forces
+    law, normal = _law(1, f, b0)
+    res = solve_friction(S, jump0, np.array([0.0, 0.1]), normal, law)
+    mu, state = _one_pair(S, jump0, 0.0, 0.1, f, b0)
+    assert res.state[1] == state == expected
+    # one dense 2x2 solve each: round-off
+    np.testing.assert_allclose(res.mu, mu, rtol=1e-13, atol=1e-14)
+    assert not res.fallback
+
+
+def test_an_open_pair_carries_no_traction_even_with_cohesion():
+    S = np.array([[1.0, 0.3], [0.3, 2.0]])
+    law, normal = _law(1, 0.5, 10.0)
+    res = solve_friction(S, np.array([0.5, 0.8]), np.array([0.0, 0.0]), normal, law)
+    assert res.state[1] == OPEN and not res.active[0]
+    assert np.all(res.mu == 0.0)
+
+
+def _random_problem(seed, p=12, f=0.4, c=0.05):
+    rng = np.random.default_rng(seed)
+    S = _compliance(p, rng)
+    jump0 = np.zeros(2 * p)
+    jump0[0::2] = rng.normal(-0.5, 1.0, p)       # most pairs penetrate without contact forces
+    jump0[1::2] = rng.normal(0.0, 1.0, p)
+    target = np.zeros(2 * p)
+    target[0::2] = -np.abs(rng.normal(0.0, 0.05, p))   # -gap
+    target[1::2] = rng.normal(0.0, 0.2, p)              # reference slip
+    law, normal = _law(p, f, c)
+    return S, jump0, target, normal, law
+
+
+@pytest.mark.parametrize("seed", range(20))
+@pytest.mark.parametrize("cohesion", [0.0, 0.05])
+def test_random_pair_systems_satisfy_the_friction_law(seed, cohesion):
+    S, jump0, target, normal, law = _random_problem(seed, c=cohesion)
+    if cohesion and seed == 16:
+        # one of the measured cases (contact/friction.py) with no state set the iteration settles on
+        with pytest.raises(ComputationError, match="friction"):
+            solve_friction(S, jump0, target, normal, law)
+        return
+    res = solve_friction(S, jump0, target, normal, law)
+    weight = np.ones(len(jump0))
+    r = res.friction_residuals(weight)
+    # every state set is one dense solve: the law holds to round-off of the load scale
+    assert max(r.values()) < 1e-10, r
+    kkt = res.kkt_residuals(-np.where(normal, target, 0.0), normal)
+    assert max(kkt.values()) < 1e-10, kkt
+    if cohesion:
+        # cohesion makes the law non-monotone: a pair may be open, or touch and hold c (both satisfy
+        # it; seeds 6, 13 have both); the forces of another method need not be the same
+        return
+    # the second method (fixed point of Tresca problems by bounded least squares) finds the same forces
+    other = _fixed_point(S, jump0, target, normal, ~normal & ~law.coulomb, law, [])
+    scale = np.max(np.abs(res.mu))
+    np.testing.assert_allclose(other.mu, res.mu, atol=1e-8 * scale)
+    np.testing.assert_array_equal(other.state, res.state)
+
+
+def test_without_friction_and_cohesion_the_result_is_the_frictionless_one():
+    S, jump0, target, normal, law = _random_problem(3, f=0.0, c=0.0)
+    res = solve_friction(S, jump0, target, normal, law)
+    idx = np.flatnonzero(normal)
+    free = solve_active_set(S[np.ix_(idx, idx)], jump0[idx], target[idx], np.ones(len(idx), bool))
+    scale = np.max(np.abs(res.mu))
+    assert np.all(res.mu[~normal] == 0.0)
+    np.testing.assert_allclose(res.mu[idx], free.mu, atol=1e-12 * scale)
+    np.testing.assert_array_equal(res.active[idx], free.active)
+    assert np.all(res.state[law.coulomb] != STICK)
+
+
+def test_the_fallback_holds_the_law_when_the_active_set_is_stopped():
+    S, jump0, target, normal, law = _random_problem(5)
+    res = solve_friction(S, jump0, target, normal, law, max_iter=1)
+    assert res.fallback
+    r = res.friction_residuals(np.ones(len(jump0)))
+    assert r["bound"] < 1e-10 and r["direction"] < 1e-10 and r["stick_increment"] < 1e-8, r
