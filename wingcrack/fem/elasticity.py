@@ -72,6 +72,7 @@ class ElasticProblem:
         pc.setType("cholesky")
         pc.setFactorSolverType("mumps")
         self._factored = False
+        self._schur = None
         self.b = fpetsc.create_vector(self.L)
         self.u = fem.Function(V, name="displacement")
 
@@ -144,6 +145,7 @@ class ElasticProblem:
         from . import schur
 
         self.schur_dofs = None
+        self._schur = None
         if schur_dofs is not None and len(schur_dofs) and schur.available(self.fm.mesh.comm):
             pc = self.solver.getPC()
             pc.setFactorSetUpSolverType()
@@ -182,9 +184,16 @@ class ElasticProblem:
         self._factored = False
 
     def schur_complement(self) -> np.ndarray:
+        """The dense Schur complement S_c of K on `schur_dofs`. The first
+        solve through the factor factorises S_c in place (PETSc condenses and
+        expands through it), and MUMPS then hands back that factorisation,
+        not S_c: the copy taken before is kept, so that every contact problem
+        built on this factorisation (another face law on the same mesh) gets S_c."""
         from . import schur
 
-        return schur.schur_complement(self.solver.getPC().getFactorMatrix(), len(self.schur_dofs))
+        if self._schur is None:
+            self._schur = schur.schur_complement(self.solver.getPC().getFactorMatrix(), len(self.schur_dofs))
+        return self._schur
 
     def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
         self.load_factor.value = load_factor
