@@ -200,11 +200,6 @@ def test_friction_residuals_on_every_step(runs):
                 assert v < 1e-8, (mu, s["step"], name, v)
 
 
-@pytest.mark.xfail(strict=True, reason="contact/friction.py labels a contact pair STICK when |z| <= F + 1e-12 of "
-                   "the scale; with mu = c = 0 (F = 0) and the zero slip increment of a step's final solve (it "
-                   "starts from the search's accepted lower end, at the same load to 1e-9) every closed pair of "
-                   "step 2 is STICK (33 of 33), where the contract (|t_t| at the bound: slip) and frictionless "
-                   "faces say SLIP")
 def test_coulomb_without_friction_has_the_frictionless_states(runs):
     """mu = c = 0: the bound is 0, so a closed pair's |t_t| = 0 is at it and
     the pair slips (the contract), as every closed frictionless pair does:
