@@ -4,7 +4,8 @@ an error, and are kept in git without outputs.
 They run in the Jupyter kernel "wingcrack" that `make setup` installs into
 the venv (.venv/share/jupyter/kernels/wingcrack: it starts .venv/bin/python,
 which sees DOLFINx and wingcrack). Measured here: 01 about 10 s, 02 about
-6 s, 03 about 50 s (34 propagation steps), 04 about 10 s; each must stay under 2 minutes,
+6 s, 03 about 50 s (34 propagation steps), 04 about 10 s, 05 about 12 s (eleven solves, a
+101-increment load path, a 10-step run); each must stay under 2 minutes,
 and a cell that hangs fails at CELL_TIMEOUT.
 """
 from pathlib import Path
@@ -15,7 +16,7 @@ from jupyter_client.kernelspec import KernelSpecManager, NoSuchKernel
 from nbclient import NotebookClient
 
 FOLDER = Path(__file__).resolve().parents[1] / "notebooks"
-NOTEBOOKS = ["01_stress_intensity_factors", "02_fracture_contact", "03_wing_cracks", "04_one_step"]
+NOTEBOOKS = ["01_stress_intensity_factors", "02_fracture_contact", "03_wing_cracks", "04_one_step", "05_friction"]
 KERNEL = "wingcrack"
 #: seconds one cell may take: the longest (the 34-step run of 03) takes ~45 s
 CELL_TIMEOUT = 300

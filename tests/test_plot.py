@@ -269,6 +269,47 @@ def test_the_picture_bands_the_last_steps_faces_by_state(run, tmp_path):
     assert {"faces open", "faces slip", "pre-existing", "wing (colour: step)"} <= set(drawn["legend"])
 
 
+def test_the_animation_bands_each_steps_faces_by_state(run, tmp_path):
+    """Every frame of the growth animation bands its step's face edges in
+    the state the face file holds: on a copy of the run whose face file of
+    step 1 marks the closed nodes of one half of the fracture (x < 0) as
+    sticking (this frictionless run has none), that frame shows all three
+    states; the others open and slip only, read back from the figure. The
+    legend is one for the run: the states some frame shows."""
+    import meshio
+
+    from wingcrack.io.animation import animate_growth
+    from wingcrack.io.faces import SLIP, STICK
+    from wingcrack.io.outdir import read_result
+
+    out = tmp_path / "out"
+    shutil.copytree(run[0], out)
+    path = out / "faces_0001.vtu"
+    m = meshio.read(path)
+    state = np.asarray(m.point_data["state"]).copy()
+    state[(state == SLIP) & (m.points[:, 0] < 0)] = STICK
+    m.point_data["state"] = state
+    m.write(path)
+    result = read_result(out)
+    drawn = []
+    animate_growth(out, result, "gif", drawn=drawn)
+    assert len(drawn) == STEPS
+    for k, frame in enumerate(drawn):
+        faces = result.faces_of(k)
+        assert faces.closed.any()
+        for code, label in ((0, "faces open"), (STICK, "faces stick"), (SLIP, "faces slip")):
+            want = faces.lines[faces.state == code]
+            if len(want):
+                assert np.array_equal(frame[label], want), (k, label)
+            else:
+                assert label not in frame, (k, label)
+        assert frame["legend"] == ["fracture", "faces open", "faces stick", "faces slip"]
+    # the doctored step: its stick and slip bands split the closed edges at x = 0
+    assert set(drawn[1]) == {"faces open", "faces stick", "faces slip", "legend"}
+    assert np.all(drawn[1]["faces stick"][:, :, 0].max(axis=1) < 1e-12)
+    assert "faces stick" not in drawn[0]
+
+
 def test_outer_boundary_of_the_cracked_mesh_is_the_plate(run):
     """The mesh's free edges less the (paired) crack faces: the 4 x 4 plate,
     perimeter 16 m, every edge on a side."""

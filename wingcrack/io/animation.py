@@ -1,5 +1,8 @@
 """growth.gif (growth.mp4 when ffmpeg is on PATH): the von Mises stress and
-the fractures, one frame per step, from a result folder's step files.
+the fractures, one frame per step, from a result folder's step files; the
+faces of each step banded by their contact state, open, stick or slip, in
+the colours of fractures.png (io.pictures.FACE_BANDS), with a legend entry
+for each state that some frame shows.
 
 The colour scale is logarithmic and fixed over the run, so that frames
 compare: from the smallest 1st percentile of the positive nodal values of
@@ -15,8 +18,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .faces import STATE_NAMES
+from .pictures import FACE_BANDS
+
 #: frames per second
 FPS = 4
+#: width (points) of the face-state bands; opaque and outlined in black, as
+#: the slip colour is close to magma's upper colours and a GIF's palette
+#: blurs translucent ones
+BAND_WIDTH = 5.0
 
 
 def animation_format() -> str:
@@ -50,15 +60,19 @@ def view_box(frames) -> tuple[np.ndarray, np.ndarray]:
     return np.maximum(lo - pad, lo_mesh), np.minimum(hi + pad, hi_mesh)
 
 
-def animate_growth(folder: Path, result, fmt: str | None = None) -> Path:
+def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | None = None) -> Path:
     """Write growth.gif or growth.mp4 (`fmt`, default animation_format())
     into `folder` for `result` (an io.outdir.StoredResult with at least
-    one step) and return its path."""
+    one step) and return its path. drawn: a list that gets, per frame, what
+    plot_fractures returns: {"faces open" / "faces stick" / "faces slip":
+    (k, 3, 2) the face edges banded in that state, read back from the
+    figure (only states present), "legend": the legend's labels}."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib import animation
+    from matplotlib import animation, patheffects
     from matplotlib.collections import LineCollection, TriMesh
+    from matplotlib.lines import Line2D
     from matplotlib.colors import LogNorm
     from matplotlib.tri import Triangulation
 
@@ -81,10 +95,19 @@ def animate_growth(folder: Path, result, fmt: str | None = None) -> Path:
         writer = animation.FFMpegWriter(fps=FPS, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
     else:
         writer = animation.PillowWriter(fps=FPS)
-    drawn = []
+    # one legend for the whole run, fixed like the colour scale: the states some frame shows
+    outline = [patheffects.Stroke(linewidth=BAND_WIDTH + 2.0, foreground="black"), patheffects.Normal()]
+    shown = [state for state in FACE_BANDS if any(np.any(f.state == state) for _, f in frames)]
+    handles = [Line2D([], [], color="white", lw=0.8, label="fracture")]
+    handles += [Line2D([], [], color=FACE_BANDS[s][0], lw=BAND_WIDTH, solid_capstyle="butt", path_effects=outline,
+                       label=FACE_BANDS[s][1]) for s in shown]
+    legend = ax.legend(handles=handles, loc="upper right", fontsize=8, facecolor="0.25", labelcolor="white",
+                       framealpha=0.8)
+    labels = [t.get_text() for t in legend.get_texts()]
+    artists = []
     with writer.saving(fig, str(path), dpi=100):
         for (fields, faces), step in zip(frames, steps):
-            for artist in drawn:
+            for artist in artists:
                 artist.remove()
             v = np.clip(np.where(np.isfinite(fields.von_mises), fields.von_mises, vmax), vmin, vmax)
             # a TriMesh added without autoscaling (the view is fixed) is ax.tripcolor(shading="gouraud")
@@ -92,13 +115,26 @@ def animate_growth(folder: Path, result, fmt: str | None = None) -> Path:
             field = TriMesh(Triangulation(fields.x[:, 0], fields.x[:, 1], fields.triangles),
                             norm=norm, cmap="magma", rasterized=True)
             field.set_array(v)
-            drawn = [ax.add_collection(field, autolim=False),
-                     ax.add_collection(LineCollection(faces.lines, colors="white", linewidths=1.2), autolim=False),
-                     ax.add_collection(LineCollection(faces.lines[faces.closed], colors="tab:cyan",
-                                                      linewidths=2.5), autolim=False)]
+            artists = [ax.add_collection(field, autolim=False)]
+            bands = {}
+            for state, (colour, label) in FACE_BANDS.items():
+                edges = faces.lines[faces.state == state]
+                if len(edges):
+                    # under the fracture line, wide enough to show past it on either side
+                    bands[label] = ax.add_collection(LineCollection(edges, colors=colour, linewidths=BAND_WIDTH,
+                                                                    capstyle="butt", path_effects=outline),
+                                                     autolim=False)
+            artists += bands.values()
+            artists.append(ax.add_collection(LineCollection(faces.lines, colors="white", linewidths=0.8),
+                                             autolim=False))
+            counts = ", ".join(f"{int(np.sum(faces.state == s))} {STATE_NAMES[s]}" for s in FACE_BANDS
+                               if np.any(faces.state == s))
             ax.set_title(f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
-                         + (f", {int(faces.closed.sum())} closed face edges" if faces.closed.any() else ""),
-                         fontsize=10)
+                         + (f"; face edges {counts}" if counts else ""), fontsize=10)
+            if drawn is not None:
+                frame = {label: np.asarray(b.get_segments(), float).reshape(-1, 3, 2) for label, b in bands.items()}
+                frame["legend"] = labels
+                drawn.append(frame)
             writer.grab_frame()
     plt.close(fig)
     return path

@@ -91,6 +91,9 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
         ax_zoom.set_xlim(lo[0] - pad, hi[0] + pad)
         ax_zoom.set_ylim(lo[1] - pad, hi[1] + pad)
         ax_zoom.set_title("fractures and mesh (zoom); circles: tip rosettes", fontsize=10)
+        # a tall, narrow zoom (fractures along the load) would crowd its x labels into each other
+        narrow = (hi[0] - lo[0]) < 0.5 * (hi[1] - lo[1])
+        ax_zoom.xaxis.set_major_locator(MaxNLocator(2 if narrow else 4))
     handles, labels = ax_full.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     uniq = {k: uniq[k] for k in sorted(uniq, key=lambda k: k in bands)}   # the fractures first, then the faces
