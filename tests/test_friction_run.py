@@ -3,7 +3,7 @@ run (verification 3), the slip history survives the remesh (verification
 5), and a killed Coulomb run resumes on the uninterrupted run's geometry
 and slip (verification 6; two processes: tests/test_mpi.py).
 
-The case is cases/brazilian_disc_45_friction.toml (mu = 0.3 on the crack
+The case is cases/brazilian_disc_45_friction.toml (mu = 0.5 on the crack
 and its wings), cut to a few steps."""
 import json
 import signal
