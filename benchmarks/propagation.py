@@ -21,6 +21,7 @@ WINGCRACK = Path(sys.executable).with_name("wingcrack")
 CASES = [
     ("brazilian_disc_45_open", "to the rim, 77 steps, in ~30 s (published code: 255 s for 34 steps)"),
     ("brazilian_disc_45", "with frictionless contact"),
+    ("brazilian_disc_45_friction", "with Coulomb friction 0.5: solves per step of the search <= 8"),
     ("multi_fractures_shear", "35 steps under 120 s and 1.5 GB (published code: 16 steps in 1,426 s, 7.1 GB)"),
     ("three_fractures_slip", "slip on the middle fracture"),
 ]

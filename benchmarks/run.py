@@ -4,7 +4,9 @@ Runs `wingcrack.sif` on the 45-degree Brazilian disc at about 30,000 DOFs,
 once to compile the forms and then REPEAT times, and prints the phases
 (mesh, to-DOLFINx, assemble, factorize, solve, SIF, output) with their share;
 then the mesher alone on the disc (mesh_disc.py), the propagation cases
-(propagation.py) and the 30k-1M DOF scaling on 1 and 2 MPI ranks (scaling.py).
+(propagation.py), Coulomb friction against frictionless contact on one mesh
+and what friction changes in the cases (friction_cases.py), and the 30k-1M
+DOF scaling on 1 and 2 MPI ranks (scaling.py).
 """
 from __future__ import annotations
 
@@ -154,6 +156,8 @@ def main(argv=None):
     bench_mesh(args.repeat)
     from propagation import main as bench_propagation
     bench_propagation()
+    from friction_cases import main as bench_friction_cases
+    bench_friction_cases([])
     from scaling import main as bench_scaling
     bench_scaling([])
 
