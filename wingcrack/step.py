@@ -61,6 +61,7 @@ class Discretisation:
     cm: object
     problem: object
     contact: object
+    pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
 
     @property
     def dofs(self) -> int:
@@ -106,13 +107,31 @@ class Discretisation:
         from .tip_sifs import tip_sifs
 
         m = case.material
-        forces = self.contact.nodal_forces(len(self.cm.x)) if self.contact.result is not None else None
+        forces = self.face_forces()
         tips = tip_sifs(self.problem, self.cm, [np.asarray(p, float) for p in polylines], case.domain, m.E, m.nu,
                         m.plane, case.stress.tensor(), face_forces=forces)
         for t in tips:
             require_finite(f"a SIF at fracture {t.fracture} end {t.end}",
                            [v for v in (t.KI, t.KII, t.KI_M, t.KII_M, t.G, t.K_eq) if v is not None])
         return driving(tips, case)
+
+    def face_forces(self):
+        """(n_nodes, 2) the forces on the face nodes at the current solution,
+        contact and fluid pressure (the interaction integral's crack-face
+        term), or None when the faces carry none."""
+        loads = self.problem.loads
+        out = None
+        if self.contact.result is not None:
+            out = self.contact.nodal_forces(len(self.cm.x))
+        if loads.face_forces is not None and np.any(loads.face_forces):
+            p = loads.pressure_factor(self.problem.load_factor_solved) * loads.face_forces
+            out = p if out is None else out + p
+        return out
+
+    def pressure_at(self, load_factor: float) -> np.ndarray:
+        """(n_fractures,) the fluid pressure of each fracture at `load_factor`
+        (Pa; the given pressures times the factor that multiplies them)."""
+        return self.pressures * self.problem.loads.pressure_factor(load_factor)
 
     def driving_sifs(self, case, polylines):
         """(KI, KII) of every tip by the method that drives growth: displacement
@@ -161,8 +180,10 @@ class Discretisation:
             tangential = ~normal
             tangential_traction[c.rows.pair[tangential]] = (-c.result.mu[tangential]
                                                             / np.maximum(c.rows.weight[tangential], 1e-300))
+        pressure = self.pressure_at(self.problem.load_factor_solved)[np.asarray(self.cm.pair_fracture, np.int64)] \
+            if len(pairs) else np.zeros(0)
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
-                "state": state, "slip_increment": slip_increment, "closed": closed}
+                "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure}
 
     def contact_record(self) -> ContactRecord:
         from .io.faces import SLIP, STICK
@@ -245,7 +266,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
     m = case.material
-    loads = case_loads(case, cm)
+    loads = case_loads(case, cm, fractures)
     pieces = free_pieces(cm, loads)
     if pieces:
         raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
@@ -259,7 +280,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact)
+    return Discretisation(cm, problem, contact, np.array([float(getattr(f, "pressure", 0.0)) for f in fractures]))
 
 
 def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
@@ -272,7 +293,7 @@ def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
     timer.lap("solve")
     tips = d.sifs(case, [f.points for f in case.fractures])
     timer.lap("sif")
-    return Solution(d.cm, d.problem, d.contact, tips)
+    return Solution(d.cm, d.problem, d.contact, d.pressures, tips)
 
 
 def static_states(tips, KIc) -> list:
