@@ -226,6 +226,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
                 shown = disc
+                if prop.connect_pressure:   # the next step meshes and loads with the connected pressures
+                    fset.connect_pressures()
                 done = fset.copy()
                 history = converged
                 write("running")
