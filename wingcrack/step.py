@@ -57,10 +57,13 @@ class Discretisation:
     """A geometry made ready to solve: cm, the crack mesh (meshing.CrackMesh:
     nodes, P2 cells, face pairs, tips with their rosette nodes); problem, the
     elastic problem (fem.elasticity.ElasticProblem, assembled and
-    factorised); contact, its contact problem (fem.contact_problem)."""
+    factorised); contact, its contact problem (fem.contact_problem);
+    fractures, how many fractures it was built from (the indices of
+    cm.pair_fracture and of pressure_at)."""
     cm: object
     problem: object
     contact: object
+    fractures: int = 0   # issue 15: the lead fills the physics (pressures)
 
     @property
     def dofs(self) -> int:
@@ -80,6 +83,12 @@ class Discretisation:
         """The current solution becomes the converged state the next solve
         starts from (friction is path dependent; without it nothing changes)."""
         self.contact.accept()
+
+    def pressure_at(self, load_factor: float) -> np.ndarray:
+        """(fractures,) the fluid pressure of every fracture (Pa) at
+        `load_factor`, what a solve there applies. Issue 15: the lead fills
+        the physics; until then no fracture is pressurised."""
+        return np.zeros(self.fractures)
 
     def pair_slips(self) -> np.ndarray:
         """(p,) the slip [u].t of every Coulomb pair at the current solution
@@ -143,7 +152,8 @@ class Discretisation:
         (Pa, the shear stress on the face plane, signed as the slip it
         drives; 0 without a tangential row), "state" and "closed"
         (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
-        non-coulomb pairs)}. Collective (the face displacements are
+        non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
+        fracture at the solved load (Pa)}. Collective (the face displacements are
         gathered)."""
         from .fem.nodal import nodal_displacements
 
@@ -162,7 +172,8 @@ class Discretisation:
             tangential_traction[c.rows.pair[tangential]] = (-c.result.mu[tangential]
                                                             / np.maximum(c.rows.weight[tangential], 1e-300))
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
-                "state": state, "slip_increment": slip_increment, "closed": closed}
+                "state": state, "slip_increment": slip_increment, "closed": closed,
+                "pressure": np.zeros(len(pairs))}   # issue 15: the lead fills the physics
 
     def contact_record(self) -> ContactRecord:
         from .io.faces import SLIP, STICK
@@ -259,7 +270,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact)
+    return Discretisation(cm, problem, contact, len(polylines))
 
 
 def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
@@ -272,7 +283,7 @@ def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
     timer.lap("solve")
     tips = d.sifs(case, [f.points for f in case.fractures])
     timer.lap("sif")
-    return Solution(d.cm, d.problem, d.contact, tips)
+    return Solution(d.cm, d.problem, d.contact, d.fractures, tips=tips)
 
 
 def static_states(tips, KIc) -> list:
@@ -302,7 +313,8 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
            states=None, advances=None) -> StepRecord:
     """The record of solved step k (tip states and advances when it grew;
     "arrested" and 0 otherwise), its files written when there is an output
-    folder `out`."""
+    folder `out`; the fractures' pressures at `load_factor` when `disc` can
+    tell them (Discretisation.pressure_at)."""
     if out is not None:
         write_step_files(out, k, load_factor, disc)
         timer.lap("output")
@@ -310,10 +322,12 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
     advances = advances or [0.0] * len(tips)
     seconds = {name: round(v, 6) for name, v in timer.seconds.items()}
     seconds["total"] = round(sum(timer.seconds.values()), 6)
+    pressure_at = getattr(disc, "pressure_at", None)
+    pressures = [float(p) for p in pressure_at(load_factor)] if pressure_at is not None else []
     return StepRecord(k, load_factor, disc.dofs, disc.cells,
                       [TipRecord.of(t, s, a) for t, s, a in zip(tips, states, advances)],
                       disc.contact_record(), seconds, {n: disc.cm.stats[n] for n in MESH_STATS}, solves,
-                      sif_warnings(tips))
+                      sif_warnings(tips), pressures)
 
 
 def require_finite(what: str, values) -> None:
