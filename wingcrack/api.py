@@ -331,7 +331,7 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     def history_png():
         from .io.history import plot_history
 
-        plot_history(folder / "history.png", result.summary)
+        plot_history(folder / "history.png", result.summary, result)
         return folder / "history.png"
 
     def growth():
