@@ -155,9 +155,11 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                                              autolim=False))
             counts = ", ".join(f"{int(np.sum(faces.state == s))} {STATE_NAMES[s]}" for s in FACE_BANDS
                                if np.any(faces.state == s))
-            injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa" if wet.any() else ""
+            # with fluid the face counts go to a line of their own: the stress scale would cut a long one
+            injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa\n" if wet.any() else "; "
             ax.set_title(f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
-                         + injection + (f"; face edges {counts}" if counts else ""), fontsize=10)
+                         + (injection + f"face edges {counts}" if counts else injection.rstrip("; \n")),
+                         fontsize=10)
             if drawn is not None:
                 frame = {label: np.asarray(b.get_segments(), float).reshape(-1, 3, 2) for label, b in bands.items()}
                 if rim is not None:

@@ -97,12 +97,12 @@ def _injection_panel(ax, h: dict, slipping, marker) -> list:
     length (m) on a second axis at its right: [that axis] or []."""
     ax.plot(h["step"], h["injection"] / 1e6, marker=marker, ms=3, color="#0072B2", label="injection pressure")
     ax.set_ylabel("injection pressure (MPa)", color="#0072B2")
+    ax.set_ylim(bottom=0.0)
     if slipping is None:
         return []
     # the slip band's colour of fractures.png
     right = ax.twinx()
     right.plot(h["step"], slipping, marker=marker, ms=3, color="#D55E00", ls="--", label="slipping length")
     right.set_ylabel("slipping length (m)", color="#D55E00")
-    right.set_ylim(bottom=0.0)
-    ax.legend(handles=ax.get_lines() + right.get_lines(), fontsize=7, loc="best")
+    right.set_ylim(bottom=0.0)   # the axis labels, in the lines' colours, say which is which: no legend over them
     return [right]
