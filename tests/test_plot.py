@@ -482,6 +482,9 @@ def test_plot_a_folder_without_summary_exits_2(tmp_path, capsys):
      "steps[0] is not step 0"),
     ('{"title": "t", "version": "1", "status": "finished", "steps": [{"step": 0, "load_factor": 1.0}],'
      ' "fractures": []}', "lacks 'load_factor', 'dofs' or 'tips'"),
+    ('{"title": "t", "version": "1", "status": "finished", "steps": [{"step": 0, "load_factor": 1.0, "dofs": 9,'
+     ' "tips": [], "pressures": [1e6, -2.0]}], "fractures": []}',
+     "steps[0].pressures is not a list of fracture pressures (Pa, numbers >= 0)"),
 ])
 def test_plot_a_summary_that_is_not_ours_exits_2(tmp_path, capsys, text, reason):
     (tmp_path / "summary.json").write_text(text)

@@ -360,4 +360,7 @@ def _summary_problem(s) -> str | None:
         for t in st["tips"]:
             if not (isinstance(t, dict) and all(_number(t.get(q)) for q in ("fracture", "end", "x", "y", "KI", "KII", "theta"))):
                 return f"steps[{k}]: a tip without 'fracture', 'end', 'x', 'y', 'KI', 'KII' and 'theta'"
+        p = st.get("pressures", [])
+        if not (isinstance(p, list) and all(_number(v) and v >= 0 for v in p)):
+            return f"steps[{k}].pressures is not a list of fracture pressures (Pa, numbers >= 0)"
     return None
