@@ -57,7 +57,9 @@ class Discretisation:
     """A geometry made ready to solve: cm, the crack mesh (meshing.CrackMesh:
     nodes, P2 cells, face pairs, tips with their rosette nodes); problem, the
     elastic problem (fem.elasticity.ElasticProblem, assembled and
-    factorised); contact, its contact problem (fem.contact_problem)."""
+    factorised); contact, its contact problem (fem.contact_problem);
+    pressures, the fluid pressure of every fracture it was built from, at
+    load factor 1 (their indices are cm.pair_fracture's)."""
     cm: object
     problem: object
     contact: object
@@ -162,7 +164,8 @@ class Discretisation:
         (Pa, the shear stress on the face plane, signed as the slip it
         drives; 0 without a tangential row), "state" and "closed"
         (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
-        non-coulomb pairs)}. Collective (the face displacements are
+        non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
+        fracture at the solved load (Pa)}. Collective (the face displacements are
         gathered)."""
         from .fem.nodal import nodal_displacements
 
@@ -293,7 +296,7 @@ def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
     timer.lap("solve")
     tips = d.sifs(case, [f.points for f in case.fractures])
     timer.lap("sif")
-    return Solution(d.cm, d.problem, d.contact, d.pressures, tips)
+    return Solution(d.cm, d.problem, d.contact, d.pressures, tips=tips)
 
 
 def static_states(tips, KIc) -> list:
@@ -323,7 +326,8 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
            states=None, advances=None) -> StepRecord:
     """The record of solved step k (tip states and advances when it grew;
     "arrested" and 0 otherwise), its files written when there is an output
-    folder `out`."""
+    folder `out`; the fractures' pressures at `load_factor` when `disc` can
+    tell them (Discretisation.pressure_at)."""
     if out is not None:
         write_step_files(out, k, load_factor, disc)
         timer.lap("output")
@@ -331,10 +335,12 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
     advances = advances or [0.0] * len(tips)
     seconds = {name: round(v, 6) for name, v in timer.seconds.items()}
     seconds["total"] = round(sum(timer.seconds.values()), 6)
+    pressure_at = getattr(disc, "pressure_at", None)
+    pressures = [float(p) for p in pressure_at(load_factor)] if pressure_at is not None else []
     return StepRecord(k, load_factor, disc.dofs, disc.cells,
                       [TipRecord.of(t, s, a) for t, s, a in zip(tips, states, advances)],
                       disc.contact_record(), seconds, {n: disc.cm.stats[n] for n in MESH_STATS}, solves,
-                      sif_warnings(tips))
+                      sif_warnings(tips), pressures)
 
 
 def require_finite(what: str, values) -> None:
