@@ -111,15 +111,6 @@ def test_finish_records_what_the_discretisation_says_the_pressures_are():
     assert finish(None, 2, 1.75, Disc(), [], Timer()).pressures == []
 
 
-def test_the_placeholder_discretisation_holds_one_dry_fracture_per_fracture():
-    """Until the lead's physics: one pressure per fracture the mesh was
-    built from, all 0 (issue 15)."""
-    from wingcrack.step import Discretisation
-
-    d = Discretisation(cm=None, problem=None, contact=None, fractures=3)
-    assert np.array_equal(d.pressure_at(2.0), np.zeros(3))
-
-
 # ---------------------------------------------------------------- faces_XXXX.vtu
 
 
