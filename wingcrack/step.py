@@ -133,6 +133,9 @@ class Discretisation:
     def pressure_at(self, load_factor: float) -> np.ndarray:
         """(n_fractures,) the fluid pressure of each fracture at `load_factor`
         (Pa; the given pressures times the factor that multiplies them)."""
+        if self.pressures is None:   # built without them: dry fractures
+            n = int(np.max(self.cm.pair_fracture, initial=-1)) + 1 if len(self.cm.pairs) else 0
+            return np.zeros(n)
         return self.pressures * self.problem.loads.pressure_factor(load_factor)
 
     def driving_sifs(self, case, polylines):
