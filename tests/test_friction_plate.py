@@ -115,7 +115,7 @@ def solve(plates, case):
     problem = shared.problem
     problem.sigma0.value[:] = case.stress.tensor()
     contact = ContactProblem(problem, constraint_rows(shared.cm, case.fractures))
-    disc = Discretisation(shared.cm, problem, contact)
+    disc = Discretisation(shared.cm, problem, contact, shared.pressures)
     disc.solve(1.0)
     return disc, disc.sifs(case, [f.points for f in case.fractures])
 
