@@ -108,7 +108,7 @@ if MPI.COMM_WORLD.rank == 0:
 
 
 @pytest.mark.parametrize("case", ["brazilian_disc_45.toml", "multi_fractures_shear.toml",
-                                  "brazilian_disc_45_friction.toml"])
+                                  "brazilian_disc_45_friction.toml", "three_fractures_injection.toml"])
 def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
     path = with_steps(case, 10, tmp_path / case)
     wingcrack(1, "run", path, "-o", tmp_path / "one", "--quiet", "--no-plots")
@@ -126,7 +126,9 @@ def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
     assert len(fa) == len(fb)
     for p, q in zip(fa, fb):
         assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * size
-    if "friction" in case:   # the slip history went the same way: the last step's faces agree
+    if "injection" in case:   # the pressure went the same way through the network
+        assert [st["pressures"] for st in a["steps"]] == [st["pressures"] for st in b["steps"]]
+    if "friction" in case or "injection" in case:   # the slip history went the same way: the last faces agree
         import meshio
         last = f"faces_{len(a['steps']) - 1:04d}.vtu"
         ma, mb = meshio.read(tmp_path / "one" / last), meshio.read(tmp_path / "two" / last)
