@@ -236,10 +236,28 @@ INVALID = [
     bad("steps-negative", [("propagation", {"steps": -1})], "propagation.steps", "must be >= 0"),
     bad("length-zero", [("propagation", {"length": 0.0})], "propagation.length", "must be > 0"),
     bad("alpha-zero", [("propagation", {"alpha": 0.0})], "propagation.alpha", "must be > 0"),
-    bad("load-unknown", [("propagation", {"load": "ramp"})], "propagation.load", '"scale" | "fixed"'),
+    bad("load-unknown", [("propagation", {"load": "ramp"})], "propagation.load", '"scale" | "pressure" | "fixed"'),
     bad("max-load-factor-zero", [("propagation", {"max_load_factor": 0.0})], "propagation.max_load_factor",
         "must be > 0"),
     bad("sif-unknown", [("propagation", {"sif": "j-integral"})], "propagation.sif", '"correlation" | "interaction"'),
+    # fluid pressure (issue 15): on every kind of face, so fracture 0 (frictionless) and 1 (open) alike
+    bad("pressure-negative", [("fractures.0.pressure", -1e5)], "fractures[0].pressure", "must be >= 0, got -100000"),
+    bad("pressure-negative-open", [("fractures.1.pressure", -1.0)], "fractures[1].pressure", "must be >= 0, got -1"),
+    bad("pressure-nan", [("fractures.0.pressure", math.nan)], "fractures[0].pressure", "must be a finite number"),
+    bad("pressure-inf", [("fractures.1.pressure", math.inf)], "fractures[1].pressure", "must be a finite number"),
+    bad("pressure-string", [("fractures.0.pressure", "1e6")], "fractures[0].pressure",
+        "expected a number, got a string"),
+    bad("pressure-boolean", [("fractures.0.pressure", True)], "fractures[0].pressure",
+        "expected a number, got a boolean"),
+    bad("load-pressure-without-pressure", [("propagation", {"load": "pressure"})], "propagation.load",
+        "no fracture has a pressure above 0"),
+    bad("load-pressure-with-zero-pressures", [("propagation", {"load": "pressure"}), ("fractures.0.pressure", 0.0),
+                                              ("fractures.1.pressure", 0)], "propagation.load",
+        "no fracture has a pressure above 0"),
+    bad("connect-pressure-string", [("propagation", {"connect_pressure": "true"})], "propagation.connect_pressure",
+        "expected true or false, got a string"),
+    bad("connect-pressure-integer", [("propagation", {"connect_pressure": 1})], "propagation.connect_pressure",
+        "expected true or false, got a number"),
     # magnitudes no case may ask for: each overflowed or underflowed in the solve
     bad("E-tiny", [("material.E", 1e-300)], "material.E", "must lie within 1000 .. 1e+13 Pa"),
     bad("E-subnormal", [("material.E", 5e-324)], "material.E", "must lie within 1000 .. 1e+13 Pa"),
@@ -265,6 +283,9 @@ INVALID = [
     bad("cohesion-over-a-tenth-of-E", [("fractures.0.faces", "coulomb"), ("fractures.0.friction", 0.6),
                                        ("fractures.0.cohesion", 1.01e9)], "fractures[0].cohesion",
         "must be at most 0.1 E = 1e+09 Pa"),
+    bad("pressure-over-a-tenth-of-E", [("fractures.0.pressure", 1.01e9)], "fractures[0].pressure",
+        "must be at most 0.1 E = 1e+09 Pa"),
+    bad("pressure-huge", [("fractures.1.pressure", 1e300)], "fractures[1].pressure", "at most 0.1 E"),
     bad("mesh-size-huge", [("mesh.size", 1e300)], "mesh.size", "at most L = 4.472 m"),
     bad("length-huge", [("propagation", {"length": 1e300})], "propagation.length", "at most L = 4.472 m"),
     bad("max-load-factor-huge", [("propagation", {"max_load_factor": 1e300})], "propagation.max_load_factor",
@@ -316,10 +337,10 @@ def test_defaults():
     assert (case.material.thickness, case.material.density) == (1.0, 0.0)
     f = case.fractures[1]
     assert (f.faces, f.slip, f.gap, f.grow, f.slip_profile) == ("open", 0.0, 0.0, True, "uniform")
-    assert (f.friction, f.cohesion) == (0.0, 0.0)
+    assert (f.friction, f.cohesion, f.pressure) == (0.0, 0.0, 0.0)
     assert case.mesh == MeshOptions(size=0.2, tip_size=0.05, adaptive=True, sectors=32)
     assert case.propagation == Propagation(length=0.05, steps=35, alpha=0.35, load="scale", max_load_factor=100.0,
-                                           sif="correlation")
+                                           sif="correlation", connect_pressure=True)
     assert case.body.gravity == (0.0, 0.0)
     assert np.all(case.stress.tensor() == 0.0)
 
@@ -369,6 +390,27 @@ def test_zero_friction_and_cohesion_are_no_condition_on_other_faces():
     for i, faces in enumerate(("frictionless", "open")):
         f = Case.from_dict(patched((f"fractures.{i}.friction", 0.0), (f"fractures.{i}.cohesion", 0))).fractures[i]
         assert (f.faces, f.friction, f.cohesion) == (faces, 0.0, 0.0)
+
+
+def test_fluid_pressure_is_read():
+    """pressure on every kind of face, as a float (an integer too); load =
+    "pressure" with one pressurised fracture; connect_pressure false."""
+    for faces, extra in (("open", ()), ("frictionless", ()), ("slip", (("fractures.0.slip", 1e-4),)),
+                         ("coulomb", (("fractures.0.friction", 0.6),))):
+        case = Case.from_dict(patched(("fractures.0.faces", faces), ("fractures.0.pressure", 2_000_000), *extra,
+                                      ("propagation", {"load": "pressure", "connect_pressure": False})))
+        f = case.fractures[0]
+        assert (f.faces, f.pressure) == (faces, 2e6) and isinstance(f.pressure, float)
+        assert case.fractures[1].pressure == 0.0
+        assert (case.propagation.load, case.propagation.connect_pressure) == ("pressure", False)
+    # one pressurised fracture of two is enough for load = "pressure"
+    case = Case.from_dict(patched(("fractures.1.pressure", 1.0), ("propagation", {"load": "pressure"})))
+    assert [f.pressure for f in case.fractures] == [0.0, 1.0] and case.propagation.connect_pressure is True
+    # with the other load modes a pressure is a load like any other, and none is needed
+    for load in ("scale", "fixed"):
+        assert Case.from_dict(patched(("fractures.0.pressure", 3e5), ("propagation", {"load": load}))).fractures[0] \
+            .pressure == 3e5
+        assert Case.from_dict(patched(("propagation", {"load": load}))).propagation.load == load
 
 
 def test_density_without_gravity_is_allowed():
@@ -527,6 +569,7 @@ def test_uniform_slip_profile_is_no_condition():
     [("stress", {"sxx": -1e9, "syy": 1e9, "sxy": -1e9})],        # 0.1 E
     [("bc.0.traction", [1e9, -1e9])],
     [("fractures.0.faces", "coulomb"), ("fractures.0.friction", 100.0), ("fractures.0.cohesion", 1e9)],  # 0.1 E
+    [("fractures.0.pressure", 1e9), ("fractures.1.pressure", 1e9)],  # 0.1 E
     [("bc.2.displacement", [0.4472, -0.4472])],                   # 0.1 L, L = sqrt(20) m
     [("propagation", {"length": 4.472, "max_load_factor": 1e9})],  # L
     [("mesh", {"size": 4.472, "tip_size": 0.05})],
@@ -535,7 +578,7 @@ def test_uniform_slip_profile_is_no_condition():
     [("body", {"gravity": [0.0, -1e300]})],
     # the weight of the 4.47 m domain, density g L, at 0.1 E
     [("material.density", 1e4), ("body", {"gravity": [0.0, -1e9 / (1e4 * 20 ** 0.5) * 0.999]})],
-], ids=["E-lo", "E-hi", "KIc-lo", "KIc-hi", "density", "stress", "traction", "coulomb", "displacement", "length",
+], ids=["E-lo", "E-hi", "KIc-lo", "KIc-hi", "density", "stress", "traction", "coulomb", "pressure", "displacement", "length",
         "mesh-size", "title", "gravity-no-density", "gravity-weight"])
 def test_magnitudes_at_their_limits_are_accepted(changes):
     assert Case.from_dict(patched(*changes)).title
@@ -607,10 +650,10 @@ def test_every_key_of_the_description_is_read():
     d = patched(("material.thickness", 1.0), ("material.density", 0.0), ("body", {"gravity": [0.0, 0.0]}),
                 ("stress", {"sxx": 0.0, "syy": 0.0, "sxy": 0.0}), ("mesh.adaptive", True), ("mesh.sectors", 32),
                 ("propagation", {"steps": 35, "length": 0.05, "alpha": 0.35, "load": "scale",
-                                 "max_load_factor": 100.0, "sif": "correlation"}),
+                                 "max_load_factor": 100.0, "sif": "correlation", "connect_pressure": True}),
                 ("fractures.1.faces", "open"), ("fractures.1.slip", 0.0), ("fractures.1.gap", 0.0),
                 ("fractures.1.grow", True), ("fractures.1.slip_profile", "uniform"),
-                ("fractures.1.friction", 0.0), ("fractures.1.cohesion", 0.0))
+                ("fractures.1.friction", 0.0), ("fractures.1.cohesion", 0.0), ("fractures.1.pressure", 0.0))
     given = {name: set() for name in DESCRIPTION}
     given["top"] = set(d)
     for name in ("material", "mesh", "body", "stress", "propagation"):

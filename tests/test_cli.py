@@ -169,6 +169,26 @@ def test_check_accepts_coulomb_faces_and_prints_their_law(tmp_path):
     assert "faces open, grows" in res.stdout   # fracture 1: no friction shown where there is none
 
 
+def test_check_prints_fracture_pressures_and_the_load_mode(tmp_path):
+    path = tmp_path / "case.toml"
+    path.write_text(to_toml(case_table.patched(("fractures.1.pressure", 2.5e6),
+                                               ("propagation", {"load": "pressure", "max_load_factor": 50}))))
+    res = wingcrack("check", path)
+    assert res.returncode == 0, res.stderr
+    assert res.stderr == "" and "ok: the case is valid" in res.stdout
+    lines = res.stdout.splitlines()
+    frac = [line for line in lines if line.startswith("  [")][:2]
+    assert "pressure" not in frac[0]                        # fracture 0 is dry: no pressure shown
+    assert "faces open, pressure 2.5e+06 Pa, grows" in frac[1]
+    assert "fracture pressures scaled (injection, at most x50), connected fractures share their pressure" in \
+        res.stdout
+    path.write_text(to_toml(case_table.patched(("fractures.0.pressure", 1e6),
+                                               ("propagation", {"load": "fixed", "connect_pressure": False}))))
+    res = wingcrack("check", path)
+    assert res.returncode == 0, res.stderr
+    assert "load fixed, each fracture keeps its own pressure" in res.stdout
+
+
 def test_console_script_when_installed():
     exe = Path(sys.executable).with_name("wingcrack")
     if not exe.exists():

@@ -86,11 +86,13 @@ def test_a_join_next_to_a_growing_tip_links_the_two():
         return GrowingFracture(np.array(p, float), (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
 
     fset = FractureSet([frac([[0, 0], [1, 0]]), frac([[1.05, 0.5], [1.02, 0.04]])])
-    p = meet_tip_to_tip(fset, 0, np.array([1.0, 0.03]), reach=0.075)
+    p, met = meet_tip_to_tip(fset, 0, np.array([1.0, 0.03]), reach=0.075)
     np.testing.assert_array_equal(p, [1.02, 0.04])
-    assert fset.fractures[1].ends == ["tip", "joined"]
-    q = meet_tip_to_tip(fset, 0, np.array([0.5, 0.3]), reach=0.075)   # far from any tip: unchanged
+    assert met == 1
+    assert fset.fractures[1].ends == ["tip", "joined"] and fset.fractures[1].joined_to == [None, 0]
+    q, met = meet_tip_to_tip(fset, 0, np.array([0.5, 0.3]), reach=0.075)   # far from any tip: unchanged
     np.testing.assert_array_equal(q, [0.5, 0.3])
+    assert met is None
 
 
 def test_a_kink_folding_back_onto_its_own_crack_is_not_a_join():

@@ -146,7 +146,7 @@ def test_the_picture_bands_each_state_present_and_names_it(tmp_path):
                       [[2.0, 0.0], [2.5, 0.0], [3.0, 0.0]]])
     fractures = [{"points": [[0.0, 0.0], [3.0, 0.0]], "origin": "pre-existing"}]
     drawn = plot_fractures(tmp_path / "a.png", fractures, face_lines=lines, face_states=[SLIP, OPEN, SLIP])
-    assert set(drawn) == {"faces open", "faces slip", "legend"}
+    assert set(drawn) == {"faces open", "faces slip", "legend", "colour bars"} and drawn["colour bars"] == []
     assert np.array_equal(drawn["faces open"], lines[[1]]) and np.array_equal(drawn["faces slip"], lines[[0, 2]])
     assert sorted(drawn["legend"]) == ["faces open", "faces slip", "pre-existing"]
     assert (tmp_path / "a.png").stat().st_size > 0

@@ -57,6 +57,8 @@ def test_a_wing_joins_another_fracture_as_a_t(tmp_path):
     f0 = r.fractures.fractures[0]
     assert f0.ends[1] == "joined"
     assert abs(f0.points[-1][0] - (A + 0.35)) < 1e-12
+    # the join is recorded with the fracture it met (issue 15: what connects pressures)
+    assert f0.joined_to == [None, 1] and r.fractures.fractures[1].joined_to == [None, None]
     # no crossing: the host is touched, not cut through
     assert np.all(f0.points[:, 0] <= A + 0.35 + 1e-12)
     joined_at = next(k for k, s in enumerate(r.steps) for t in s["tips"]
@@ -69,6 +71,28 @@ def test_a_wing_joins_another_fracture_as_a_t(tmp_path):
     wing_pairs = cm.pair_fracture == 0
     assert np.any(np.isin(cm.pairs[wing_pairs], at).all(axis=1))  # the wing's pair at the T
     assert np.any(cm.x[cm.pairs[wing_pairs, 0], 0] > A + 0.2)      # pairs along the new faces
+
+
+@pytest.mark.parametrize("connect", [True, False])
+def test_a_join_connects_the_pressures(tmp_path, connect):
+    """Issue 15: the run of the T above with fracture 0 pressurised. Once its
+    wing has joined fracture 1, the dry fracture 1 carries fracture 0's
+    pressure (propagation.connect_pressure = true), in the run's fracture
+    set and in the checkpoint the next step would resume from; with false
+    each keeps its own. 1 Pa against the 1e5 Pa tension changes K by about
+    1e-5, far from moving the wing off the path of the test above."""
+    from wingcrack.propagation import checkpoint
+
+    cracks = [[[-A, 0.0], [A, 0.0]], [[A + 0.35, -0.6], [A + 0.35, 0.6]]]
+    case = tension_plate(steps=4, cracks=cracks, connect_pressure=connect)
+    case = replace(case, fractures=(replace(case.fractures[0], pressure=1.0), case.fractures[1]))
+    r = run(case, out=tmp_path)
+    f0, f1 = r.fractures.fractures
+    assert f0.ends[1] == "joined" and f0.joined_to == [None, 1]
+    want = [1.0, 1.0] if connect else [1.0, 0.0]
+    assert [f0.pressure, f1.pressure] == want
+    saved = checkpoint.load(tmp_path, case)["fset"].fractures
+    assert [f.pressure for f in saved] == want and saved[0].joined_to == [None, 1]
 
 
 def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):

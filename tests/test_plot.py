@@ -132,7 +132,9 @@ def test_step_files_hold_the_fields_and_their_load_factor(run):
         f = meshio.read(out / f"faces_{k:04d}.vtu")
         assert f.field_data["load_factor"][0] == step["load_factor"]
         assert {"opening", "slip", "normal_traction", "closed", "state", "tangential_traction",
-                "slip_increment"} <= set(f.point_data)
+                "slip_increment", "pressure"} <= set(f.point_data)
+        # issue 15: a dry fracture, in the step's record and its face file alike
+        assert step["pressures"] == [0.0] and not f.point_data["pressure"].any()
 
 
 # ---------------------------------------------------------------- pictures
@@ -310,6 +312,96 @@ def test_the_animation_bands_each_steps_faces_by_state(run, tmp_path):
     assert "faces stick" not in drawn[0]
 
 
+# ---------------------------------------------------------------- fluid pressure (issue 15)
+
+
+@pytest.fixture(scope="module")
+def wet_run(run, tmp_path_factory):
+    """A copy of the run as if fracture 0 held fluid at 1 MPa times the step
+    number (step 0 dry): each step's pressures in summary.json and the
+    pressure in its face file (every node), what a pressurised run writes."""
+    import meshio
+
+    out = tmp_path_factory.mktemp("wet") / "out"
+    shutil.copytree(run[0], out)
+    summary = json.loads((out / "summary.json").read_text())
+    for k, s in enumerate(summary["steps"]):
+        s["pressures"] = [1e6 * k]
+        path = out / f"faces_{k:04d}.vtu"
+        m = meshio.read(path)
+        m.point_data["pressure"] = np.full(len(m.points), 1e6 * k)
+        m.write(path)
+    (out / "summary.json").write_text(json.dumps(summary))
+    return out, summary
+
+
+def test_the_picture_rims_the_pressurised_fracture_from_the_summary(wet_run, tmp_path):
+    """fractures.png of the wet copy: one rim along fracture 0, its wings
+    and its pre-existing part chained as summary["fractures"] lists them, at
+    the last step's pressure, named in the legend; the state bands as dry."""
+    from wingcrack.io.outdir import read_result
+    from wingcrack.io.pictures import fractures_of_result
+
+    out, summary = wet_run
+    drawn = fractures_of_result(tmp_path / "fractures.png", read_result(out))
+    pieces = [np.asarray(f["points"], float) for f in summary["fractures"] if f["fracture"] == 0]
+    assert len(pieces) == 3   # both wings and the pre-existing part
+    want = np.vstack([pieces[0]] + [p[1:] for p in pieces[1:]])
+    assert len(drawn["pressurised"]["lines"]) == 1 and np.array_equal(drawn["pressurised"]["lines"][0], want)
+    last = summary["steps"][-1]["pressures"][0]
+    assert np.array_equal(drawn["pressurised"]["pressure"], [last])
+    assert drawn["legend"][-1] == f"pressurised: p = {last / 1e6:.3g} MPa" == "pressurised: p = 3 MPa"
+    faces = read_result(out).faces_of(STEPS - 1)
+    assert np.array_equal(drawn["faces slip"], faces.lines[faces.closed])
+
+
+def test_the_animation_rims_each_steps_wet_edges_from_its_face_file(wet_run, tmp_path):
+    """Every frame rims the edges whose face-file pressure is above 0, at
+    that pressure; the dry step 0 none; one legend entry for the run."""
+    from wingcrack.io.animation import animate_growth
+    from wingcrack.io.outdir import read_result
+
+    result = read_result(wet_run[0])
+    drawn = []
+    animate_growth(tmp_path, result, "gif", drawn=drawn)
+    assert "pressurised" not in drawn[0]
+    for k, frame in enumerate(drawn[1:], start=1):
+        faces = result.faces_of(k)
+        assert np.array_equal(frame["pressurised"]["lines"], faces.lines)
+        assert np.array_equal(frame["pressurised"]["pressure"], np.full(len(faces.lines), 1e6 * k))
+        assert frame["legend"][-1] == "pressurised (colour: p)"
+
+
+def test_history_of_the_wet_copy_draws_injection_and_slipping_length(wet_run, tmp_path):
+    """The injection pressure per step (MPa) from summary.json; the slipping
+    length from the face files. Step 0 checks it against the geometry: all
+    of the crack, 0.7 sqrt(2) m, slips (frictionless, closed) but its two
+    tip edges, whose tip node is no pair; the rosette's first ring, where
+    they end, is at mesh.tip_size = 0.05 m from the tip."""
+    from wingcrack.io.history import plot_history
+    from wingcrack.io.outdir import read_result
+
+    out, summary = wet_run
+    result = read_result(out)
+    drawn = plot_history(tmp_path / "history.png", summary, result)
+    assert np.array_equal(drawn["injection pressure"][1], [0.0, 1.0, 2.0, 3.0])
+    x, slipping = drawn["slipping length"]
+    assert np.array_equal(x, np.arange(STEPS, dtype=float))
+    assert abs(slipping[0] - (0.7 * np.sqrt(2.0) - 2 * 0.05)) < 1e-9
+    assert np.all(slipping > 0)
+
+
+def test_the_dry_run_draws_no_pressure(run, tmp_path):
+    """This run's fracture holds no fluid: no rim, no pressure panel."""
+    from wingcrack.io.history import plot_history
+    from wingcrack.io.outdir import read_result
+    from wingcrack.io.pictures import fractures_of_result
+
+    result = read_result(run[0])
+    assert "pressurised" not in fractures_of_result(tmp_path / "f.png", result)
+    assert "injection pressure" not in plot_history(tmp_path / "h.png", run[2], result)
+
+
 def test_outer_boundary_of_the_cracked_mesh_is_the_plate(run):
     """The mesh's free edges less the (paired) crack faces: the 4 x 4 plate,
     perimeter 16 m, every edge on a side."""
@@ -390,6 +482,9 @@ def test_plot_a_folder_without_summary_exits_2(tmp_path, capsys):
      "steps[0] is not step 0"),
     ('{"title": "t", "version": "1", "status": "finished", "steps": [{"step": 0, "load_factor": 1.0}],'
      ' "fractures": []}', "lacks 'load_factor', 'dofs' or 'tips'"),
+    ('{"title": "t", "version": "1", "status": "finished", "steps": [{"step": 0, "load_factor": 1.0, "dofs": 9,'
+     ' "tips": [], "pressures": [1e6, -2.0]}], "fractures": []}',
+     "steps[0].pressures is not a list of fracture pressures (Pa, numbers >= 0)"),
 ])
 def test_plot_a_summary_that_is_not_ours_exits_2(tmp_path, capsys, text, reason):
     (tmp_path / "summary.json").write_text(text)

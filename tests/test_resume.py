@@ -258,9 +258,39 @@ def _friction_missing(path):
     _edit_meta(path, lambda m: m["fractures"][0].pop("friction"))
 
 
+def _pressure_negative(path):
+    _edit_meta(path, lambda m: m["fractures"][0].update(pressure=-1e5))
+
+
+def _pressure_inf(path):
+    _edit_meta(path, lambda m: m["fractures"][1].update(pressure=float("inf")))
+
+
+def _pressure_string(path):
+    _edit_meta(path, lambda m: m["fractures"][1].update(pressure="1e6"))
+
+
+def _joined_to_missing(path):
+    _edit_meta(path, lambda m: m["fractures"][0].pop("joined_to"))
+
+
+def _joined_to_no_such_fracture(path):
+    _edit_meta(path, lambda m: m["fractures"][0].update(joined_to=[None, 2]))   # two fractures: 0 and 1
+
+
+def _joined_to_not_a_pair(path):
+    _edit_meta(path, lambda m: m["fractures"][1].update(joined_to=[0]))
+
+
+def _joined_to_float(path):
+    _edit_meta(path, lambda m: m["fractures"][1].update(joined_to=[0.0, None]))
+
+
 @pytest.mark.parametrize("damage", [_truncated, _empty, _garbage, _no_fractures_key, _no_points, _meta_not_json,
                                     _bad_points, _step_behind_records, _records_cut, _load_factor_nan,
-                                    _load_factor_negative, _friction_negative, _cohesion_nan, _friction_missing],
+                                    _load_factor_negative, _friction_negative, _cohesion_nan, _friction_missing,
+                                    _pressure_negative, _pressure_inf, _pressure_string, _joined_to_missing,
+                                    _joined_to_no_such_fracture, _joined_to_not_a_pair, _joined_to_float],
                          ids=lambda f: f.__name__.strip("_"))
 def test_resume_from_a_damaged_checkpoint_exits_2_naming_it(tmp_path, capsys, damage):
     """Issue 12.8: a checkpoint.npz that cannot be read (cut short, empty,
@@ -314,6 +344,55 @@ def test_a_checkpoint_keeps_friction_and_cohesion(tmp_path):
         [("coulomb", 0.6, 2e5, "coulomb"), ("open", 0.0, 0.0, "open")]
     assert all(type(f.friction) is float and type(f.cohesion) is float for f in got)
     assert np.array_equal(got[0].points, fset.fractures[0].points) and got[0].pre == (0, 1)
+
+
+def test_a_checkpoint_keeps_pressure_and_joined_to(tmp_path):
+    """Issue 15: a resumed run goes on with the pressures after connection
+    (not the case's) and with what each joined end met, so that later
+    connections still flood through earlier joins."""
+    from wingcrack.case import Case
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    path = write_case(tmp_path / "case.toml", steps=3)
+    path.write_text(path.read_text().replace('faces = "open"', 'faces = "open"\npressure = 3e5', 1))
+    case = Case.from_toml(path)
+    fset = FractureSet.from_case(case)
+    assert [f.pressure for f in fset.fractures] == [3e5, 0.0]
+    fset.fractures[0].ends[1], fset.fractures[0].joined_to[1] = "joined", 1   # a wing of 0 ended on 1 as a T
+    assert fset.connect_pressures()
+    checkpoint.save(tmp_path, case, 0, fset, 0.5, [{"step": 0, "load_factor": 0.5}], None)
+    got = checkpoint.load(tmp_path, case)["fset"].fractures
+    assert [(f.pressure, f.joined_to, f.ends) for f in got] == \
+        [(3e5, [None, 1], ["tip", "joined"]), (3e5, [None, None], ["tip", "tip"])]
+    assert all(type(f.pressure) is float for f in got)
+
+
+def test_a_format_2_checkpoint_is_refused_naming_both(tmp_path, capsys):
+    """A format-2 checkpoint (issue 14, before fluid pressure) holds no
+    pressure and no joined_to: refused in one line naming its format."""
+    from wingcrack import cli
+    from wingcrack.case import Case
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    path = write_case(tmp_path / "case.toml", steps=3)
+    case = Case.from_toml(path)
+    out = tmp_path / "out"
+    out.mkdir()
+    checkpoint.save(out, case, 0, FractureSet.from_case(case), 1.0, [{"step": 0, "load_factor": 1.0}], None)
+
+    def format_2(meta):
+        meta["version"] = 2
+        for f in meta["fractures"]:
+            del f["pressure"], f["joined_to"]
+
+    _edit_meta(out / checkpoint.NAME, format_2)
+    assert cli.main(["run", str(path), "-o", str(out), "--resume", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"wingcrack: error: {out}: {out / checkpoint.NAME} was written by another wingcrack version "
+                   "(checkpoint format 2, this one reads 3); start the run again without "
+                   "--resume (with --force)\n"), err
 
 
 def test_a_checkpoint_of_another_format_is_refused_naming_both(tmp_path, capsys):

@@ -297,7 +297,8 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     """Draw the pictures of a result folder (a run, finished, stopped or
     failed, or a solve) from its summary.json and step files, and return
     {name: path}: fractures.png always; with at least one step, history.png
-    (load factor, K_eq of every tip, DOFs) and growth.gif / growth.mp4
+    (load factor, K_eq of every tip, DOFs; with fluid, the injection
+    pressure and the slipping length) and growth.gif / growth.mp4
     (`fmt`, default mp4 when ffmpeg is on PATH), unless switched off.
     summary: draw this summary instead of the folder's summary.json (a run
     draws before it writes its final status). failed: a list that gets a
@@ -331,7 +332,7 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     def history_png():
         from .io.history import plot_history
 
-        plot_history(folder / "history.png", result.summary)
+        plot_history(folder / "history.png", result.summary, result)
         return folder / "history.png"
 
     def growth():

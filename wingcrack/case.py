@@ -16,9 +16,11 @@ check. docs/case-format.md's key tables are rendered from the Keys
 (`python -m wingcrack.case_doc`).
 
 Units are SI throughout (m, Pa, N; a point force is N per metre of thickness).
-Points are (x, y) float64. Load scaling (done by the solver, not here): every
-bc force, traction and displacement and every prescribed fracture slip is
-multiplied by the load factor; the initial stress and gravity are not.
+Points are (x, y) float64. Load scaling (done by the solver, not here): with
+propagation.load = "scale" every bc force, traction and displacement, every
+prescribed fracture slip and every fracture pressure is multiplied by the load
+factor; with "pressure" only the fracture pressures are; the initial stress
+and gravity never are.
 """
 from __future__ import annotations
 
@@ -46,7 +48,7 @@ PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
 FACES = ("open", "frictionless", "slip", "coulomb")
 SLIP_PROFILES = ("uniform", "elliptic")
-LOADS = ("scale", "fixed")
+LOADS = ("scale", "pressure", "fixed")
 SIFS = ("correlation", "interaction")
 #: Relative tolerance (times the domain length scale) for "on the boundary",
 #: "touching" and "zero length".
@@ -299,6 +301,14 @@ class Fracture:
                               "faces carry without slipping at zero normal traction. The load factor does not scale "
                               "it.",
                           limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL))
+    pressure: float = key(0.0, unit="Pa", range=NON_NEGATIVE,
+                          doc="Fluid pressure p inside the fracture and the wings it grows. It pushes both faces "
+                              "apart on every kind of face: the total face traction is the contact traction - p n, "
+                              "and contact and friction act on the contact (effective) traction. Connected "
+                              "fractures share the highest pressure among them (`propagation.connect_pressure`). "
+                              "The load factor scales it with `load = \"scale\"` and `\"pressure\"` (see \"Fluid "
+                              "pressure\" below).",
+                          limit=Limit(hi=MAX_STRAIN, of="E", why=_SMALL))
     grow: bool = key(True, doc="Whether this fracture's tips may grow wing cracks.")
     slip_profile: str = key("uniform", choices=SLIP_PROFILES, only_with=("faces", "slip"), added=True,
                             doc="`uniform`: the same slip everywhere, which acts as a dislocation at the tips, so K "
@@ -407,13 +417,17 @@ class Propagation:
     alpha: float = key(0.35, range=POSITIVE, doc="The growth-law exponent: L_i = Lmax (G_i / max G)^alpha over the "
                        "tips with K_eq >= KIc (relative tolerance 1e-3). A tip whose L_i < 0.4·`mesh.tip_size` does "
                        "not advance, unless it grows straight on.")
-    load: str = key("scale", choices=LOADS, doc="`scale`: one load factor multiplies every bc value and every "
-                    "fracture slip. It starts at 0, and each step it rises to the smallest factor at which the "
-                    "first tip reaches KIc, never below the previous step's. `fixed`: the factor is 1, and the run "
-                    "stops when no tip reaches KIc.")
+    load: str = key("scale", choices=LOADS, doc="`scale`: one load factor multiplies every bc value, every "
+                    "fracture slip and every fracture pressure. It starts at 0, and each step it rises to the "
+                    "smallest factor at which the first tip reaches KIc, never below the previous step's. "
+                    "`pressure` (injection): the factor, found the same way, multiplies the fracture pressures "
+                    "only; bc values, slip, the in-situ stress and gravity stay at factor 1, and the critical "
+                    "factor times a fracture's `pressure` is its critical injection pressure. `fixed`: the factor "
+                    "is 1, and the run stops when no tip reaches KIc.",
+                    rule="`pressure` needs a fracture with `pressure` > 0")
     max_load_factor: float = key(100.0, range=POSITIVE, added=True,
-                                 doc="With `load = \"scale\"`, the run stops (\"no tip reaches KIc below the load "
-                                     "factor limit\") if the critical factor would exceed this.",
+                                 doc="With `load = \"scale\"` or `\"pressure\"`, the run stops (\"no tip reaches "
+                                     "KIc below the load factor limit\") if the critical factor would exceed this.",
                                  limit=Limit(hi=1e9, why="a larger factor means loads in the wrong unit; the search "
                                                          "doubles the factor, 30 solves up to 1e9"))
     sif: str = key("correlation", choices=SIFS, added=True,
@@ -421,6 +435,10 @@ class Propagation:
                        "correlation (the paper's) or the interaction integral (at a tip where it has no room, "
                        "correlation). Both are always reported. Use `\"interaction\"` for nearly incompressible "
                        "plane strain (nu above about 0.495), where correlation locks; see the README.")
+    connect_pressure: bool = key(True, doc="Fractures joined through a T-junction or linked tip to tip are "
+                                 "hydraulically connected: after each step's growth every connected group takes "
+                                 "the highest pressure among its fractures, from the next step on. `false`: each "
+                                 "fracture keeps its own `pressure`.")
 
 
 # The layouts that are not a dataclass's: the top level, [domain], [[bc]].
@@ -881,6 +899,9 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     problem = length_problem(propagation.length, mesh.tip_size)
     if problem is not None:
         raise CaseError("propagation.length", problem)
+    if propagation.load == "pressure" and not any(f.pressure > 0 for f in fractures):
+        raise CaseError("propagation.load", '"pressure" scales the fracture pressures, but no fracture has a '
+                                            "pressure above 0 (give fractures[i].pressure)")
 
     _check_statically_determined(bcs, domain)
 

@@ -277,6 +277,7 @@ def describe(case) -> str:
         extra = f", slip {_g(f.slip)} m ({f.slip_profile})" if f.faces == "slip" else ""
         extra += f", friction {_g(f.friction)}, cohesion {_g(f.cohesion)} Pa" if f.faces == "coulomb" else ""
         extra += f", gap {_g(f.gap)} m" if f.gap else ""
+        extra += f", pressure {_g(f.pressure)} Pa" if f.pressure else ""
         lines.append(
             f"  [{i}] {len(f.points)} points {_pt(f.points[0])} .. {_pt(f.points[-1])}, length {_g(f.length)} m, "
             f"faces {f.faces}{extra}, {'grows' if f.grow else 'does not grow'}"
@@ -300,7 +301,12 @@ def describe(case) -> str:
         f"mesh: size {_g(msh.size)} m, tip_size {_g(msh.tip_size)} m, {msh.sectors} sectors per rosette, "
         f"{'adaptive' if msh.adaptive else 'fixed'}"
     )
-    load = f"load scaled (at most x{_g(pr.max_load_factor)})" if pr.load == "scale" else "load fixed"
+    load = {"scale": f"load scaled (at most x{_g(pr.max_load_factor)})",
+            "pressure": f"fracture pressures scaled (injection, at most x{_g(pr.max_load_factor)})",
+            "fixed": "load fixed"}[pr.load]
+    if any(f.pressure for f in case.fractures):
+        load += ", connected fractures share their pressure" if pr.connect_pressure else \
+            ", each fracture keeps its own pressure"
     lines.append(
         f"propagation: at most {pr.steps} steps of at most {_g(pr.length)} m, alpha {_g(pr.alpha)}, {load}"
     )

@@ -12,7 +12,10 @@ class Loads:
     """What loads the body, in CrackMesh node indices and boundary tags.
 
     Entries of the first four lists are multiplied by the load factor; the
-    body force and in-situ stress are not.
+    body force and in-situ stress are not. face_forces, the fluid pressure
+    of the fractures on their faces, is multiplied by the load factor with
+    `load = "scale"` and "pressure"; with "pressure" nothing else is
+    (mode: bc_factor, pressure_factor).
     """
     point_forces: list = field(default_factory=list)          # (node, fx, fy) N/m
     point_displacements: list = field(default_factory=list)   # (node, comp, value) m
@@ -21,11 +24,58 @@ class Loads:
     body_force: tuple = (0.0, 0.0)                             # rho g, N/m^3
     sigma0: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))  # Pa
     outer_tags: tuple = ()                                     # every outer boundary tag
+    face_forces: np.ndarray = None                             # (n_nodes, 2) N/m of the pressures
+    mode: str = "scale"                                        # propagation.load
+
+    def bc_factor(self, load_factor: float) -> float:
+        """What multiplies the bc values and prescribed slip."""
+        return 1.0 if self.mode == "pressure" else float(load_factor)
+
+    def pressure_factor(self, load_factor: float) -> float:
+        """What multiplies the fracture pressures."""
+        return float(load_factor)
 
 
-def case_loads(case, cm) -> Loads:
-    """Loads on the CrackMesh `cm`; its `point_nodes` follow `case.bc_points()`."""
+def face_pressure_forces(cm, pressures) -> np.ndarray:
+    """(n_nodes, 2) nodal forces (N/m) of the fluid pressure p_f of each
+    fracture f on its faces, wings included (cm.crack_fracture): +p n int N_i ds
+    on the + face nodes, -p n int N_i ds on the - face nodes, n the pairs'
+    normal (the left normal of the fracture direction, from the - face into
+    the + side): the pressure pushes the faces apart. The consistent P2 load
+    of a constant traction, integrated on the isoparametric edge (quarter
+    points included)."""
+    from .contact.constraints import edge_integrals
+
+    x = np.asarray(cm.x, float)
+    F = np.zeros((len(x), 2))
+    p = np.asarray(pressures, float)
+    plus = np.asarray(cm.crack_edges, dtype=np.int64).reshape(-1, 3)
+    if not len(plus) or not np.any(p):
+        return F
+    minus = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
+    pe = p[np.asarray(cm.crack_fracture, dtype=np.int64)]
+    d = x[plus[:, 1]] - x[plus[:, 0]]
+    n = np.c_[-d[:, 1], d[:, 0]] / np.linalg.norm(d, axis=1)[:, None]
+    # orient each edge's normal as the pair normal of its mid node (a mid node is never a tip)
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    pn = np.asarray(cm.pair_normal, float).reshape(-1, 2)
+    where = {int(a): k for k, a in enumerate(pairs[:, 0])}
+    ref = pn[[where[int(v)] for v in plus[:, 2]]]
+    n *= np.sign(np.sum(n * ref, axis=1))[:, None]
+    w = edge_integrals(x, plus) * pe[:, None]                # (k, 3) p int N_i ds
+    for side, edges in ((1.0, plus), (-1.0, minus)):
+        np.add.at(F, edges.ravel(), side * (w[:, :, None] * n[:, None, :]).reshape(-1, 2))
+    return F
+
+
+def case_loads(case, cm, fractures=None) -> Loads:
+    """Loads on the CrackMesh `cm`; its `point_nodes` follow `case.bc_points()`.
+    fractures: what was meshed (case Fracture or GrowingFracture, in mesh
+    order; default the case's), whose `pressure` loads the faces."""
     loads = Loads()
+    fractures = case.fractures if fractures is None else fractures
+    loads.face_forces = face_pressure_forces(cm, [float(getattr(f, "pressure", 0.0)) for f in fractures])
+    loads.mode = case.propagation.load
     points = np.asarray(case.bc_points(), float).reshape(-1, 2)
     for bc in case.bcs:
         comps = [c for c in (0, 1) if bc.components[c]]

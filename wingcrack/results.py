@@ -92,7 +92,11 @@ class ContactRecord:
 class StepRecord:
     """One solved step: its number, load factor, DOFs, cells, tips, contact,
     seconds per phase, mesh statistics, the solves the critical load took,
-    and warnings (strings: the tips where the two SIF methods disagree)."""
+    warnings (strings: the tips where the two SIF methods disagree) and
+    pressures: the fluid pressure of every fracture (Pa, by fracture index),
+    the actual one the step was solved with (at its load factor, after the
+    connected fractures took their group's highest); [] in a record written
+    before fluid pressure, which to_dict then leaves out as it was."""
     step: int
     load_factor: float
     dofs: int
@@ -103,11 +107,14 @@ class StepRecord:
     mesh: dict
     solves: int = 1
     warnings: list = field(default_factory=list)
+    pressures: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         out = {"step": self.step, "load_factor": self.load_factor, "dofs": self.dofs, "cells": self.cells,
                "tips": [t.to_dict() for t in self.tips], "contact": self.contact.to_dict(),
                "seconds": dict(self.seconds), "mesh": dict(self.mesh), "solves": self.solves}
+        if self.pressures:
+            out["pressures"] = [float(p) for p in self.pressures]
         if self.warnings:
             out["warnings"] = list(self.warnings)
         return out
@@ -119,7 +126,8 @@ class StepRecord:
         tips = [TipRecord(**{k: t[k] for k in TIP_COLUMNS}, advance=t.get("advance", 0.0),
                           state=t.get("state", "arrested")) for t in d["tips"]]
         return cls(d["step"], d["load_factor"], d["dofs"], d["cells"], tips, contact, dict(d["seconds"]),
-                   dict(d.get("mesh", {})), d.get("solves", 1), list(d.get("warnings", [])))
+                   dict(d.get("mesh", {})), d.get("solves", 1), list(d.get("warnings", [])),
+                   [float(p) for p in d.get("pressures", [])])
 
 
 @dataclass

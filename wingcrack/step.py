@@ -57,10 +57,13 @@ class Discretisation:
     """A geometry made ready to solve: cm, the crack mesh (meshing.CrackMesh:
     nodes, P2 cells, face pairs, tips with their rosette nodes); problem, the
     elastic problem (fem.elasticity.ElasticProblem, assembled and
-    factorised); contact, its contact problem (fem.contact_problem)."""
+    factorised); contact, its contact problem (fem.contact_problem);
+    pressures, the fluid pressure of every fracture it was built from, at
+    load factor 1 (their indices are cm.pair_fracture's)."""
     cm: object
     problem: object
     contact: object
+    pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
 
     @property
     def dofs(self) -> int:
@@ -106,13 +109,31 @@ class Discretisation:
         from .tip_sifs import tip_sifs
 
         m = case.material
-        forces = self.contact.nodal_forces(len(self.cm.x)) if self.contact.result is not None else None
+        forces = self.face_forces()
         tips = tip_sifs(self.problem, self.cm, [np.asarray(p, float) for p in polylines], case.domain, m.E, m.nu,
                         m.plane, case.stress.tensor(), face_forces=forces)
         for t in tips:
             require_finite(f"a SIF at fracture {t.fracture} end {t.end}",
                            [v for v in (t.KI, t.KII, t.KI_M, t.KII_M, t.G, t.K_eq) if v is not None])
         return driving(tips, case)
+
+    def face_forces(self):
+        """(n_nodes, 2) the forces on the face nodes at the current solution,
+        contact and fluid pressure (the interaction integral's crack-face
+        term), or None when the faces carry none."""
+        loads = self.problem.loads
+        out = None
+        if self.contact.result is not None:
+            out = self.contact.nodal_forces(len(self.cm.x))
+        if loads.face_forces is not None and np.any(loads.face_forces):
+            p = loads.pressure_factor(self.problem.load_factor_solved) * loads.face_forces
+            out = p if out is None else out + p
+        return out
+
+    def pressure_at(self, load_factor: float) -> np.ndarray:
+        """(n_fractures,) the fluid pressure of each fracture at `load_factor`
+        (Pa; the given pressures times the factor that multiplies them)."""
+        return self.pressures * self.problem.loads.pressure_factor(load_factor)
 
     def driving_sifs(self, case, polylines):
         """(KI, KII) of every tip by the method that drives growth: displacement
@@ -143,7 +164,8 @@ class Discretisation:
         (Pa, the shear stress on the face plane, signed as the slip it
         drives; 0 without a tangential row), "state" and "closed"
         (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
-        non-coulomb pairs)}. Collective (the face displacements are
+        non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
+        fracture at the solved load (Pa)}. Collective (the face displacements are
         gathered)."""
         from .fem.nodal import nodal_displacements
 
@@ -161,8 +183,10 @@ class Discretisation:
             tangential = ~normal
             tangential_traction[c.rows.pair[tangential]] = (-c.result.mu[tangential]
                                                             / np.maximum(c.rows.weight[tangential], 1e-300))
+        pressure = self.pressure_at(self.problem.load_factor_solved)[np.asarray(self.cm.pair_fracture, np.int64)] \
+            if len(pairs) else np.zeros(0)
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
-                "state": state, "slip_increment": slip_increment, "closed": closed}
+                "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure}
 
     def contact_record(self) -> ContactRecord:
         from .io.faces import SLIP, STICK
@@ -245,7 +269,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
     m = case.material
-    loads = case_loads(case, cm)
+    loads = case_loads(case, cm, fractures)
     pieces = free_pieces(cm, loads)
     if pieces:
         raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
@@ -259,7 +283,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact)
+    return Discretisation(cm, problem, contact, np.array([float(getattr(f, "pressure", 0.0)) for f in fractures]))
 
 
 def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
@@ -272,7 +296,7 @@ def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
     timer.lap("solve")
     tips = d.sifs(case, [f.points for f in case.fractures])
     timer.lap("sif")
-    return Solution(d.cm, d.problem, d.contact, tips)
+    return Solution(d.cm, d.problem, d.contact, d.pressures, tips=tips)
 
 
 def static_states(tips, KIc) -> list:
@@ -302,7 +326,8 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
            states=None, advances=None) -> StepRecord:
     """The record of solved step k (tip states and advances when it grew;
     "arrested" and 0 otherwise), its files written when there is an output
-    folder `out`."""
+    folder `out`; the fractures' pressures at `load_factor` when `disc` can
+    tell them (Discretisation.pressure_at)."""
     if out is not None:
         write_step_files(out, k, load_factor, disc)
         timer.lap("output")
@@ -310,10 +335,12 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
     advances = advances or [0.0] * len(tips)
     seconds = {name: round(v, 6) for name, v in timer.seconds.items()}
     seconds["total"] = round(sum(timer.seconds.values()), 6)
+    pressure_at = getattr(disc, "pressure_at", None)
+    pressures = [float(p) for p in pressure_at(load_factor)] if pressure_at is not None else []
     return StepRecord(k, load_factor, disc.dofs, disc.cells,
                       [TipRecord.of(t, s, a) for t, s, a in zip(tips, states, advances)],
                       disc.contact_record(), seconds, {n: disc.cm.stats[n] for n in MESH_STATS}, solves,
-                      sif_warnings(tips))
+                      sif_warnings(tips), pressures)
 
 
 def require_finite(what: str, values) -> None:

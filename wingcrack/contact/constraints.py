@@ -75,7 +75,7 @@ def _gauss3():
 def tributary_lengths(x: np.ndarray, edges: np.ndarray, num_nodes: int) -> np.ndarray:
     """int N_k ds over the P2 face edges [a, b, mid], per node (quarter-point
     edges included: the isoparametric map is integrated, not assumed affine)."""
-    contrib = _edge_integrals(x, edges)
+    contrib = edge_integrals(x, edges)
     w = np.zeros(num_nodes)
     np.add.at(w, edges.ravel(), contrib.ravel())
     return w
@@ -90,7 +90,7 @@ def pair_tributary_lengths(cm, fracture=None) -> np.ndarray:
     minus_e = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = len(cm.x)
-    contrib = _edge_integrals(np.asarray(cm.x), plus_e)
+    contrib = edge_integrals(np.asarray(cm.x), plus_e)
     if fracture is not None:   # a pair's key also carries its fracture
         nf = int(max(np.max(cm.crack_fracture, initial=0), np.max(fracture, initial=0))) + 1
         efrac = np.repeat(np.asarray(cm.crack_fracture, dtype=np.int64), 3)
@@ -113,7 +113,7 @@ def _sum_by_key(edge_keys, pair_keys, contrib):
     return w
 
 
-def _edge_integrals(x: np.ndarray, edges: np.ndarray) -> np.ndarray:
+def edge_integrals(x: np.ndarray, edges: np.ndarray) -> np.ndarray:
     """(k, 3) int N_i ds of the 3 nodes of each P2 edge."""
     s, wq = _gauss3()
     # 1D P2 shape functions on [0, 1] in the order a (0), b (1), mid (1/2)

@@ -50,7 +50,8 @@ class ContactProblem:
             return None
         rows = self.rows
         jump0 = self.op.jumps(p.u.vector.getArray())
-        target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, rows.slip * load_factor))
+        slip = rows.slip * p.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
+        target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
         res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active)
         self.op.add_forces(p.u, res.mu)
         self.result = res

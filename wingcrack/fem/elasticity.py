@@ -61,6 +61,7 @@ class ElasticProblem:
 
         self.bcs, self._bc_values = self._dirichlet(loads)
         self._point_forces = self._locate_point_forces(loads.point_forces)
+        self._face_dofs, self._face_values = self._locate_face_forces(loads.face_forces)
 
         self.A = fpetsc.assemble_matrix(self.a, bcs=self.bcs)
         self.A.assemble()
@@ -74,6 +75,7 @@ class ElasticProblem:
         self._factored = False
         self._schur = None
         self.b = fpetsc.create_vector(self.L)
+        self.load_factor_solved = 1.0
         self.u = fem.Function(V, name="displacement")
 
     # -- physics -----------------------------------------------------------
@@ -125,6 +127,17 @@ class ElasticProblem:
             values.append((c, value))
             bcs.append(fem.dirichletbc(c, dofs, V.sub(comp)))
         return bcs, values
+
+    def _locate_face_forces(self, forces):
+        """(owned local scalar dofs, values) of the pressure's nodal forces
+        (n_nodes, 2) at factor 1 (on the owning rank only)."""
+        if forces is None or not np.any(forces):
+            return np.zeros(0, np.int64), np.zeros(0)
+        nodes = np.flatnonzero(np.any(forces != 0, axis=1))
+        found, blk = self.fm.block_dofs(nodes)
+        own = found & (blk < self.fm.V.dofmap.index_map.size_local)
+        dofs = np.r_[2 * blk[own], 2 * blk[own] + 1].astype(np.int64)
+        return dofs, np.r_[forces[nodes[own], 0], forces[nodes[own], 1]]
 
     def _locate_point_forces(self, forces):
         """(owned local scalar dof, value) for each point-force component."""
@@ -196,6 +209,10 @@ class ElasticProblem:
         return self._schur
 
     def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
+        """The right-hand side at `load_factor`: it multiplies the bc values
+        (unless the load mode is "pressure") and the fracture pressures."""
+        pressure = self.loads.pressure_factor(load_factor)
+        load_factor = self.loads.bc_factor(load_factor)
         self.load_factor.value = load_factor
         for c, value in self._bc_values:
             c.value = load_factor * value
@@ -207,6 +224,8 @@ class ElasticProblem:
             arr = b.getArray()
             for dof, val in self._point_forces:
                 arr[dof] += load_factor * val
+        if len(self._face_dofs):
+            b.getArray()[self._face_dofs] += pressure * self._face_values
         fpetsc.apply_lifting(b, [self.a], bcs=[self.bcs])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         fpetsc.set_bc(b, self.bcs)
@@ -216,6 +235,7 @@ class ElasticProblem:
         if not self._factored:
             self.factorize()
         b = self.assemble_rhs(load_factor)
+        self.load_factor_solved = float(load_factor)   # what u belongs to (the face pressure of the SIFs)
         self.solver.solve(b, self.u.vector)
         reason = self.solver.getConvergedReason()
         if reason < 0:

@@ -2,7 +2,10 @@
 the fractures, one frame per step, from a result folder's step files; the
 faces of each step banded by their contact state, open, stick or slip, in
 the colours of fractures.png (io.pictures.FACE_BANDS), with a legend entry
-for each state that some frame shows.
+for each state that some frame shows; the edges that hold fluid (the face
+file's pressure > 0) with a blue rim in the shades of fractures.png, on a
+pressure scale fixed over the run (a colour bar, and the step's highest
+pressure in the title).
 
 The colour scale is logarithmic and fixed over the run, so that frames
 compare: from the smallest 1st percentile of the positive nodal values of
@@ -19,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from .faces import STATE_NAMES
-from .pictures import FACE_BANDS
+from .pictures import FACE_BANDS, PRESSURE_BAR, pressure_colours
 
 #: frames per second
 FPS = 4
@@ -27,6 +30,9 @@ FPS = 4
 #: the slip colour is close to magma's upper colours and a GIF's palette
 #: blurs translucent ones
 BAND_WIDTH = 5.0
+#: width (points) of the pressure rim under a band's black outline (BAND_WIDTH
+#: + 2), itself outlined in white: magma's dark colours would swallow navy
+RIM_WIDTH = BAND_WIDTH + 6.0
 
 
 def animation_format() -> str:
@@ -66,7 +72,9 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
     one step) and return its path. drawn: a list that gets, per frame, what
     plot_fractures returns: {"faces open" / "faces stick" / "faces slip":
     (k, 3, 2) the face edges banded in that state, read back from the
-    figure (only states present), "legend": the legend's labels}."""
+    figure (only states present), "pressurised": {"lines": (k, 3, 2) the
+    edges drawn with a pressure rim, "pressure": (k,) their pressures (Pa)}
+    (only in a frame with fluid), "legend": the legend's labels}."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -83,9 +91,14 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
     vmin, vmax = colour_range([f.von_mises for f, _ in frames])
     norm = LogNorm(vmin=vmin, vmax=vmax)
     lo, hi = view_box(frames)
+    p_top = max((float(f.pressure.max()) for _, f in frames if len(f.pressure)), default=0.0)
+    p_cmap, p_norm = pressure_colours(p_top)
 
-    fig, ax = plt.subplots(figsize=(7.2, 6.0))
+    fig, ax = plt.subplots(figsize=(7.2, 6.0 if p_top <= 0 else 6.8))
     fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="magma"), ax=ax, label="von Mises stress (Pa)")
+    if p_top > 0:   # below the axes, clear of the stress scale's labels
+        fig.colorbar(plt.cm.ScalarMappable(norm=plt.Normalize(0.0, p_top / 1e6), cmap=p_cmap), ax=ax,
+                     label=PRESSURE_BAR, orientation="horizontal", fraction=0.04, pad=0.1)
     ax.set_aspect("equal")
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -101,6 +114,10 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
     handles = [Line2D([], [], color="white", lw=0.8, label="fracture")]
     handles += [Line2D([], [], color=FACE_BANDS[s][0], lw=BAND_WIDTH, solid_capstyle="butt", path_effects=outline,
                        label=FACE_BANDS[s][1]) for s in shown]
+    rim_outline = [patheffects.Stroke(linewidth=RIM_WIDTH + 2.0, foreground="white"), patheffects.Normal()]
+    if p_top > 0:
+        handles.append(Line2D([], [], color=p_cmap(p_norm(p_top)), lw=RIM_WIDTH, solid_capstyle="butt",
+                              path_effects=rim_outline, label="pressurised (colour: p)"))
     legend = ax.legend(handles=handles, loc="upper right", fontsize=8, facecolor="0.25", labelcolor="white",
                        framealpha=0.8)
     labels = [t.get_text() for t in legend.get_texts()]
@@ -116,6 +133,15 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                             norm=norm, cmap="magma", rasterized=True)
             field.set_array(v)
             artists = [ax.add_collection(field, autolim=False)]
+            wet = faces.pressure > 0
+            rim = None
+            if wet.any():
+                # under the state bands and their black outline: a blue ring outside them
+                rim = ax.add_collection(LineCollection(faces.lines[wet], cmap=p_cmap, norm=p_norm,
+                                                       linewidths=RIM_WIDTH, capstyle="butt",
+                                                       path_effects=rim_outline), autolim=False)
+                rim.set_array(faces.pressure[wet])
+                artists.append(rim)
             bands = {}
             for state, (colour, label) in FACE_BANDS.items():
                 edges = faces.lines[faces.state == state]
@@ -129,10 +155,16 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                                              autolim=False))
             counts = ", ".join(f"{int(np.sum(faces.state == s))} {STATE_NAMES[s]}" for s in FACE_BANDS
                                if np.any(faces.state == s))
+            # with fluid the face counts go to a line of their own: the stress scale would cut a long one
+            injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa\n" if wet.any() else "; "
             ax.set_title(f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
-                         + (f"; face edges {counts}" if counts else ""), fontsize=10)
+                         + (injection + f"face edges {counts}" if counts else injection.rstrip("; \n")),
+                         fontsize=10)
             if drawn is not None:
                 frame = {label: np.asarray(b.get_segments(), float).reshape(-1, 3, 2) for label, b in bands.items()}
+                if rim is not None:
+                    frame["pressurised"] = {"lines": np.asarray(rim.get_segments(), float).reshape(-1, 3, 2),
+                                            "pressure": np.asarray(rim.get_array(), float)}
                 frame["legend"] = labels
                 drawn.append(frame)
             writer.grab_frame()

@@ -1,6 +1,6 @@
 """The fracture faces as a polyline file (VTU through meshio): at every face
-node of the + face, the opening, slip, tractions, contact state and slip
-increment of its face-node pair.
+node of the + face, the opening, slip, tractions, contact state, slip
+increment and fluid pressure of its face-node pair.
 
 Point data of faces_XXXX.vtu (zero at the tips, which are not pairs):
 
@@ -18,6 +18,9 @@ Point data of faces_XXXX.vtu (zero at the tips, which are not pairs):
                          wingcrack.contact.friction; the file's field data
                          repeat them as state_open, state_stick, state_slip
     closed               1.0 where the pair is in contact (stick or slip), else 0.0
+    pressure             p (Pa, >= 0): the fluid pressure of the pair's fracture
+                         at the step's load, pushing both faces apart (total
+                         face traction = contact traction - p n)
 
 [u] = u(+) - u(-), n the pair normal (left normal of the fracture direction
 d), t = d (docs/architecture.md). Frictionless and prescribed-slip pairs in
@@ -36,15 +39,17 @@ STATE_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
 #: what a face file's field data say about the state codes
 STATE_CODES = {f"state_{name}": code for code, name in STATE_NAMES.items()}
 #: the face values (step.Discretisation.face_values) a face file holds per node
-FLOAT_FIELDS = ("opening", "slip", "normal_traction", "tangential_traction", "slip_increment", "closed")
+FLOAT_FIELDS = ("opening", "slip", "normal_traction", "tangential_traction", "slip_increment", "closed",
+                "pressure")
 
 
 def face_state(cm, values: dict) -> dict:
     """Per pair of `cm` (a CrackMesh): position, opening w = [u].n, slip
     s = [u].t (m), normal and tangential traction (Pa), slip increment (m),
-    state (int8) and closed (bool), from the face values of
-    step.Discretisation.face_values: {"jump": (p, 2) [u], "normal_traction",
-    "tangential_traction", "state", "slip_increment", "closed": (p,)}."""
+    state (int8), closed (bool) and fluid pressure (Pa), from the face values
+    of step.Discretisation.face_values: {"jump": (p, 2) [u], "normal_traction",
+    "tangential_traction", "state", "slip_increment", "closed", "pressure":
+    (p,)} (values without "pressure": no fracture is pressurised)."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     t = np.c_[n[:, 1], -n[:, 0]]
@@ -57,7 +62,8 @@ def face_state(cm, values: dict) -> dict:
             "slip": np.sum(jump * t, axis=1), "normal_traction": np.asarray(values["normal_traction"], float),
             "tangential_traction": np.asarray(values["tangential_traction"], float),
             "slip_increment": np.asarray(values["slip_increment"], float), "state": state,
-            "closed": np.asarray(values["closed"], bool), "plus": pairs[:, 0]}
+            "closed": np.asarray(values["closed"], bool),
+            "pressure": np.asarray(values.get("pressure", np.zeros(len(pairs))), float), "plus": pairs[:, 0]}
 
 
 def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) -> Path:

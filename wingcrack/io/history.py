@@ -1,5 +1,8 @@
 """history.png: how a run went, step by step: the load factor, K_eq of
-every tip (Pa m^0.5, eq. 10 of the paper) and the number of DOFs."""
+every tip (Pa m^0.5, eq. 10 of the paper) and the number of DOFs; when a
+fracture holds fluid in some step, a panel more: the injection pressure
+(the highest fracture pressure of the step, MPa) and, from the face files,
+the slipping length (m, the face edges in state SLIP)."""
 from __future__ import annotations
 
 import textwrap
@@ -10,9 +13,11 @@ import numpy as np
 
 def history(summary: dict) -> dict:
     """The series drawn, from a summary (as in summary.json):
-    step (s,), load_factor (s,), dofs (s,) and k_eq {(fracture, end): (s,)}
+    step (s,), load_factor (s,), dofs (s,), k_eq {(fracture, end): (s,)}
     with NaN where that tip does not exist (not yet grown, joined, at the
-    boundary). K_eq is computed from KI, KII, theta when a summary lacks it."""
+    boundary), and injection (s,): the highest fracture pressure of each
+    step (Pa; 0 for a step without pressures). K_eq is computed from KI,
+    KII, theta when a summary lacks it."""
     steps = summary["steps"]
     keys = sorted({(t["fracture"], t["end"]) for st in steps for t in st["tips"]})
     k_eq = {key: np.full(len(steps), np.nan) for key in keys}
@@ -22,7 +27,21 @@ def history(summary: dict) -> dict:
     return {"step": np.array([st["step"] for st in steps], float),
             "load_factor": np.array([st["load_factor"] for st in steps], float),
             "dofs": np.array([st["dofs"] for st in steps], float),
-            "k_eq": k_eq}
+            "k_eq": k_eq,
+            "injection": np.array([max(st.get("pressures") or [0.0]) for st in steps], float)}
+
+
+def slipping_lengths(result) -> np.ndarray:
+    """(s,) the slipping length of every step of a result folder (an
+    io.outdir.StoredResult), m: the summed lengths of its face edges in
+    state SLIP (the + faces, io.outdir.StepFaces.lengths), from its face file."""
+    from .faces import SLIP
+
+    out = np.zeros(len(result.steps))
+    for k in range(len(out)):
+        faces = result.faces_of(k)
+        out[k] = float(faces.lengths[faces.state == SLIP].sum())
+    return out
 
 
 def _k_eq(t: dict) -> float:
@@ -31,19 +50,27 @@ def _k_eq(t: dict) -> float:
     return float(K.equivalent_k(np.array([t["KI"]]), np.array([t["KII"]]), np.array([t["theta"]]))[0])
 
 
-def plot_history(path: Path, summary: dict) -> dict:
+def plot_history(path: Path, summary: dict, result=None) -> dict:
     """Write history.png and return what was drawn: {label: (x, y)} read
     back from the figure's lines (labels "load factor", "DOFs" and
-    "fracture F end E" for K_eq)."""
+    "fracture F end E" for K_eq; when some step has a fracture pressure
+    above 0, "injection pressure" in MPa and, with `result` (the folder's
+    io.outdir.StoredResult, whose face files give it), "slipping length"
+    in m)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     h = history(summary)
-    fig, (ax_load, ax_k, ax_dofs) = plt.subplots(3, 1, figsize=(7, 7.5), sharex=True)
+    wet = bool(np.any(h["injection"] > 0))
+    fig, axes = plt.subplots(4 if wet else 3, 1, figsize=(7, 9.5 if wet else 7.5), sharex=True)
+    ax_load, ax_k, ax_dofs = axes[0], axes[-2], axes[-1]
     marker = "o" if len(h["step"]) <= 60 else None
     ax_load.plot(h["step"], h["load_factor"], marker=marker, ms=3, color="black", label="load factor")
     ax_load.set_ylabel("load factor")
+    extra = []
+    if wet:
+        extra = _injection_panel(axes[1], h, None if result is None else slipping_lengths(result), marker)
     for (f, e), y in h["k_eq"].items():
         ax_k.plot(h["step"], y, marker=marker, ms=3, label=f"fracture {f} end {e}")
     ax_k.set_ylabel("K_eq (Pa m$^{1/2}$)")
@@ -55,11 +82,27 @@ def plot_history(path: Path, summary: dict) -> dict:
     ax_dofs.xaxis.get_major_locator().set_params(integer=True)
     status = "" if summary["status"] == "finished" else "\n" + textwrap.shorten(summary["status"], 80)
     ax_load.set_title(f"{summary['title']}: {len(h['step'])} steps{status}", fontsize=10)
-    for ax in (ax_load, ax_k, ax_dofs):
+    for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
     drawn = {line.get_label(): (np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float))
-             for ax in (ax_load, ax_k, ax_dofs) for line in ax.get_lines()}
+             for ax in (*axes, *extra) for line in ax.get_lines()}
     fig.savefig(Path(path), dpi=110)
     plt.close(fig)
     return drawn
+
+
+def _injection_panel(ax, h: dict, slipping, marker) -> list:
+    """The injection pressure (MPa) on `ax` and, when known, the slipping
+    length (m) on a second axis at its right: [that axis] or []."""
+    ax.plot(h["step"], h["injection"] / 1e6, marker=marker, ms=3, color="#0072B2", label="injection pressure")
+    ax.set_ylabel("injection pressure (MPa)", color="#0072B2")
+    ax.set_ylim(bottom=0.0)
+    if slipping is None:
+        return []
+    # the slip band's colour of fractures.png
+    right = ax.twinx()
+    right.plot(h["step"], slipping, marker=marker, ms=3, color="#D55E00", ls="--", label="slipping length")
+    right.set_ylabel("slipping length (m)", color="#D55E00")
+    right.set_ylim(bottom=0.0)   # the axis labels, in the lines' colours, say which is which: no legend over them
+    return [right]

@@ -205,13 +205,14 @@ class StoredResult:
         """The fracture faces of step k (from its face file). A face file
         written before friction has no state, tangential traction or slip
         increment: its pairs in contact are SLIP (frictionless or prescribed
-        slip, as they were), the others OPEN, and the two fields are absent."""
+        slip, as they were), the others OPEN, and the two fields are absent.
+        One written before fluid pressure reads with pressure 0."""
         from .faces import FLOAT_FIELDS, OPEN, SLIP, STATE_NAMES
 
         if not self.summary.get("fractures"):
             # a case without fractures: its face file has no cells, which meshio writes but cannot read
             return StepFaces(np.zeros((0, 3, 2)), np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int8),
-                             {"state": np.zeros((0, 3), dtype=np.int8)})
+                             {"state": np.zeros((0, 3), dtype=np.int8), "pressure": np.zeros((0, 3))})
         mesh = _read(self.faces[k])
         line3 = _cells(mesh, "line3", self.faces[k])[:, [0, 2, 1]]   # line3 nodes are [a, b, mid]: a -> mid -> b
         x = np.asarray(mesh.points)[:, :2]
@@ -224,6 +225,7 @@ class StoredResult:
         else:
             state = np.where(closed, SLIP, OPEN).astype(np.int8)
         values = {name: np.asarray(data[name], float)[line3] for name in FLOAT_FIELDS if name in data}
+        values.setdefault("pressure", np.zeros(line3.shape))   # a file from before fluid pressure: none
         values["state"] = state[line3]
         return StepFaces(x[line3], closed[line3[:, 0]] & closed[line3[:, 2]], edge_states(state[line3]), values)
 
@@ -260,12 +262,25 @@ class StepFaces:
     mid, end); closed (k,): both end nodes in contact; state (k,): the
     edge's OPEN / STICK / SLIP (io.faces; edge_states); values: the face
     file's point data at the lines' nodes, {name: (k, 3)}: "state" (int8)
-    always, and opening, slip, normal_traction, tangential_traction,
-    slip_increment, closed as far as the file holds them (io/faces.py)."""
+    and "pressure" (Pa; 0 in a file without it) always, and opening, slip,
+    normal_traction, tangential_traction, slip_increment, closed as far as
+    the file holds them (io/faces.py)."""
     lines: np.ndarray
     closed: np.ndarray
     state: np.ndarray
     values: dict
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """(k,) the fluid pressure of each edge's fracture (Pa): the largest
+        at its nodes (a tip node, which is no pair, holds 0)."""
+        p = self.values["pressure"]
+        return p.max(axis=1) if len(p) else np.zeros(0)
+
+    @property
+    def lengths(self) -> np.ndarray:
+        """(k,) the length of each edge (m), end -> mid -> end."""
+        return np.linalg.norm(np.diff(self.lines, axis=1), axis=2).sum(axis=1)
 
 
 def _read(path):
@@ -345,4 +360,7 @@ def _summary_problem(s) -> str | None:
         for t in st["tips"]:
             if not (isinstance(t, dict) and all(_number(t.get(q)) for q in ("fracture", "end", "x", "y", "KI", "KII", "theta"))):
                 return f"steps[{k}]: a tip without 'fracture', 'end', 'x', 'y', 'KI', 'KII' and 'theta'"
+        p = st.get("pressures", [])
+        if not (isinstance(p, list) and all(_number(v) and v >= 0 for v in p)):
+            return f"steps[{k}].pressures is not a list of fracture pressures (Pa, numbers >= 0)"
     return None

@@ -2,8 +2,12 @@
 rosettes; for a run, the wings coloured by the step that grew them; and the
 contact state of the faces at the last step, open, stick or slip, as a
 thick translucent band under the fracture lines (one colour and one legend
-entry per state present). Drawn from a result folder (fractures_of_result),
-for `sif`, `run` and `wingcrack plot` alike."""
+entry per state present); and the fractures that hold fluid (pressure > 0
+at the last step) with a blue rim around their bands, darker the higher
+the pressure (a legend entry "pressurised: p = X MPa" per pressure, or a
+colour bar when there are more than PRESSURE_LEGEND_MAX). Drawn from a
+result folder (fractures_of_result), for `sif`, `run` and `wingcrack plot`
+alike."""
 from __future__ import annotations
 
 import textwrap
@@ -16,14 +20,53 @@ from .faces import OPEN, SLIP, STICK
 #: the band of each face state: colour (Okabe-Ito, told apart by colour-blind
 #: readers and kept off viridis' step colours by the band's width) and legend label
 FACE_BANDS = {OPEN: ("#56B4E9", "faces open"), STICK: ("#009E73", "faces stick"), SLIP: ("#D55E00", "faces slip")}
+#: width (points) of the face-state bands of fractures.png
+BAND_WIDTH = 7.0
+#: width (points) of the pressure rim: the band of a pressurised fracture,
+#: under a white band of BAND_WIDTH that keeps the state bands' colours as
+#: they are on paper, so that a rim of 2.5 points shows on either side
+RIM_WIDTH = BAND_WIDTH + 5.0
+#: the part of matplotlib's Blues the pressures span (0 to the highest):
+#: from its middle on, off the light blue of open faces and dark on paper
+PRESSURE_BLUES = (0.5, 1.0)
+#: up to this many distinct pressures get a legend entry each; more, a colour bar
+PRESSURE_LEGEND_MAX = 4
+PRESSURE_BAR = "fracture pressure (MPa)"
+
+
+def pressure_colours(top: float):
+    """(cmap, norm) of the pressure rims: Pa in [0, top] to PRESSURE_BLUES."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap
+
+    cmap = ListedColormap(plt.get_cmap("Blues")(np.linspace(*PRESSURE_BLUES, 256)), name="pressure")
+    return cmap, plt.Normalize(0.0, top if top > 0 else 1.0)
+
+
+def pressure_label(p: float) -> str:
+    """The legend entry of the fractures at pressure p (Pa)."""
+    return f"pressurised: p = {p / 1e6:.3g} MPa"
+
+
+def fracture_pressures(summary: dict) -> dict:
+    """{fracture index: pressure (Pa)} of the fractures that hold fluid
+    (p > 0) at the last step of a summary: the pressures it was solved with
+    (steps[].pressures); {} before fluid pressure or without a step."""
+    steps = summary["steps"]
+    if not steps:
+        return {}
+    return {i: float(p) for i, p in enumerate(steps[-1].get("pressures", [])) if p > 0}
 
 
 def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_lines=(), face_states=(),
-                   title: str = "", mesh=None, growth=(), boundary=None) -> dict:
+                   title: str = "", mesh=None, growth=(), boundary=None, pressures=None) -> dict:
     """Draw the outer boundary and the fractures, and return what was drawn:
     {"faces open" / "faces stick" / "faces slip": (k, 3, 2) the face edges
     banded in that state, read back from the figure (only states present),
-    "legend": the labels of the legend, in order}.
+    "pressurised": {"lines": [(n, 2)] the pieces drawn with a pressure rim,
+    "pressure": (n,) their pressures (Pa)} (only when some fracture holds
+    fluid), "legend": the labels of the legend, in order, "colour bars":
+    the labels of the colour bars}.
 
     boundary: (k, 2, 2) segments of the outer boundary; fractures: list of dicts {"points": (n,2), "origin":
     "pre-existing"|"wing"}; tips: list of dicts with "x", "y";
@@ -31,7 +74,8 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     (k,) their OPEN / STICK / SLIP (io.outdir.StepFaces), drawn as bands
     under the fractures; mesh: anything with x (n, 2) and cells (m, >=3),
     drawn in the zoom; growth: [((x0,y0), (x1,y1), step)], what each step
-    grew, coloured by step.
+    grew, coloured by step; pressures: {fracture index: Pa}, the pieces of a
+    fracture (their "fracture") above 0 drawn with a pressure rim.
     """
     import matplotlib
     matplotlib.use("Agg")
@@ -51,15 +95,26 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     face_states = np.asarray(face_states).reshape(-1)
     if len(face_states) != len(face_lines):
         raise ValueError(f"{len(face_lines)} face edges but {len(face_states)} states")
+    wet = wet_lines(fractures, pressures or {})
+    p_cmap, p_norm = pressure_colours(max((pressure for _, pressure in wet), default=0.0))
     bands = {}   # label -> the band's collection in ax_full
+    rim = None   # the pressure rims' collection in ax_full
     for ax in (ax_full, ax_zoom):
         if boundary is not None and len(boundary):
             ax.add_collection(LineCollection(boundary, colors="0.35", linewidths=1.2))
+        if wet:
+            rims = ax.add_collection(LineCollection([p for p, _ in wet], cmap=p_cmap, norm=p_norm,
+                                                    linewidths=RIM_WIDTH, capstyle="butt", joinstyle="round",
+                                                    zorder=1.2))
+            rims.set_array(np.array([pressure for _, pressure in wet]))
+            ax.add_collection(LineCollection([p for p, _ in wet], colors="white", linewidths=BAND_WIDTH,
+                                             capstyle="butt", joinstyle="round", zorder=1.3))
+            rim = rims if ax is ax_full else rim
         for state, (colour, label) in FACE_BANDS.items():
             edges = face_lines[face_states == state]
             if len(edges):
                 # under the fracture lines (zorder 2), wide enough to show past them
-                band = ax.add_collection(LineCollection(edges, colors=colour, linewidths=7.0, alpha=0.5,
+                band = ax.add_collection(LineCollection(edges, colors=colour, linewidths=BAND_WIDTH, alpha=0.5,
                                                         capstyle="butt", zorder=1.5, label=label))
                 if ax is ax_full:
                     bands[label] = band
@@ -83,8 +138,9 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
         ax.set_ylabel("y (m)")
     ax_full.autoscale_view()
     ax_full.set_title(title or "domain and fractures", fontsize=10)
+    bars = []
     if len(growth):
-        fig.colorbar(lines, ax=ax_zoom, label="step", fraction=0.05, ticks=MaxNLocator(integer=True))
+        bars.append(fig.colorbar(lines, ax=ax_zoom, label="step", fraction=0.05, ticks=MaxNLocator(integer=True)))
     if len(all_pts):
         lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
         pad = 0.15 * max(hi - lo) + 3 * rosette + 1e-12
@@ -97,20 +153,68 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     handles, labels = ax_full.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     uniq = {k: uniq[k] for k in sorted(uniq, key=lambda k: k in bands)}   # the fractures first, then the faces
+    uniq.update(_pressure_entries(fig, ax_full, wet, p_cmap, p_norm, bars))
     legend = ax_full.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8) if uniq else None
     fig.tight_layout()
     drawn = {label: np.asarray(band.get_segments(), float).reshape(-1, 3, 2) for label, band in bands.items()}
+    if rim is not None:
+        drawn["pressurised"] = {"lines": [np.asarray(s, float) for s in rim.get_segments()],
+                                "pressure": np.asarray(rim.get_array(), float)}
     drawn["legend"] = [t.get_text() for t in legend.get_texts()] if legend is not None else []
+    drawn["colour bars"] = [b.ax.get_ylabel() for b in bars]
     fig.savefig(Path(path), dpi=110)
     plt.close(fig)
     return drawn
+
+
+def wet_lines(fractures, pressures: dict) -> list:
+    """[((n, 2) points, pressure)] of the fractures that hold fluid: the
+    pieces of each (summary["fractures"], wing, pre-existing part, wing, by
+    their "fracture") with pressures[fracture] > 0, chained into one
+    polyline where a piece starts at the end of the one before, so that
+    the rim turns round the kinks instead of breaking there."""
+    out = []
+    for f in fractures:
+        p = np.asarray(f["points"], float)
+        pressure = float(pressures.get(f.get("fracture"), 0.0))
+        if pressure <= 0:
+            continue
+        if out and out[-1][2] == f.get("fracture") and np.array_equal(out[-1][0][-1], p[0]):
+            out[-1][0] = np.vstack([out[-1][0], p[1:]])
+        else:
+            out.append([p, pressure, f.get("fracture")])
+    return [(p, pressure) for p, pressure, _ in out]
+
+
+def _pressure_entries(fig, ax, wet, cmap, norm, bars) -> dict:
+    """{label: legend handle} of the pressurised fractures: one per distinct
+    pressure (as the label shows it), highest first; with more than
+    PRESSURE_LEGEND_MAX, one entry and a colour bar on `ax` (added to bars)."""
+    import matplotlib.pyplot as plt
+    from matplotlib import patheffects
+    from matplotlib.lines import Line2D
+
+    def handle(p):
+        # the rim as drawn: the pressure's blue around white
+        rim = [patheffects.Stroke(linewidth=7.0, foreground=cmap(norm(p))), patheffects.Normal()]
+        return Line2D([], [], color="white", lw=3.0, solid_capstyle="butt", path_effects=rim)
+
+    shown = {}
+    for p in sorted((p for _, p in wet), reverse=True):
+        shown.setdefault(pressure_label(p), p)
+    if len(shown) <= PRESSURE_LEGEND_MAX:
+        return {label: handle(p) for label, p in shown.items()}
+    mpa = plt.Normalize(norm.vmin / 1e6, norm.vmax / 1e6)
+    bars.append(fig.colorbar(plt.cm.ScalarMappable(norm=mpa, cmap=cmap), ax=ax, label=PRESSURE_BAR, fraction=0.05))
+    return {"pressurised (colour: p)": handle(max(shown.values()))}
 
 
 def fractures_of_result(path: Path, result) -> dict:
     """fractures.png of a result folder (an io.outdir.StoredResult): the
     final fractures from summary.json, the wings coloured by step, and, from
     the last step's files, the mesh, the outer boundary and the faces' open,
-    stick and slip parts; what plot_fractures drew."""
+    stick and slip parts; the fractures that hold fluid at the last step
+    (its pressures) with a pressure rim; what plot_fractures drew."""
     s = result.summary
     steps = s["steps"]
     mesh = boundary = None
@@ -126,7 +230,8 @@ def fractures_of_result(path: Path, result) -> dict:
     if s["status"] != "finished":
         title += "\n" + textwrap.shorten(s["status"], 70)
     return plot_fractures(path, s["fractures"], tips=_tips_at_end(s), rosette=rosette, face_lines=lines,
-                          face_states=states, title=title, mesh=mesh, growth=growth_segments(s), boundary=boundary)
+                          face_states=states, title=title, mesh=mesh, growth=growth_segments(s), boundary=boundary,
+                          pressures=fracture_pressures(s))
 
 
 def _tips_at_end(summary: dict) -> list:

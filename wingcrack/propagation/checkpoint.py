@@ -3,15 +3,16 @@
 
 OUT/checkpoint.npz holds what the next step needs and nothing it can
 recompute: the fracture set (polylines, pre-existing range, end states,
-faces, friction and cohesion), the load factor, the finished steps'
+faces, friction, cohesion, the fluid pressure after connection and what
+each joined end met), the load factor, the finished steps'
 records, and the error-estimate size field of the next mesh (so that a
 resumed run meshes exactly as an uninterrupted one). It is written
 atomically (temporary file, fsync, rename): a kill leaves the previous
 checkpoint or the new one, never half of one. A fingerprint of the case
 (everything but propagation.steps, so a run may also be resumed with more
 steps, and the file's path) guards against resuming another case. A
-checkpoint of another format VERSION (version 1 held no friction) is
-refused, naming both versions.
+checkpoint of another format VERSION (version 1 held no friction, 2 no
+pressure) is refused, naming both versions.
 """
 from __future__ import annotations
 
@@ -29,8 +30,9 @@ from ..contact.slip_history import SlipHistory
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
-#: 2: the fractures' friction and cohesion (issue 14).
-VERSION = 2
+#: 2: the fractures' friction and cohesion (issue 14); 3: their fluid
+#: pressure and joined_to (issue 15).
+VERSION = 3
 
 
 def fingerprint(case) -> str:
@@ -57,7 +59,8 @@ def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, h
     meta = {
         "version": VERSION, "case": fingerprint(case), "step": k, "load_factor": lam, "steps": steps,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
-                       "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion}
+                       "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion,
+                       "pressure": f.pressure, "joined_to": list(f.joined_to)}
                       for f in fset.fractures],
     }
     arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
@@ -101,7 +104,8 @@ def load(out, case) -> dict:
     try:
         fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"],
                                      m["slip"], m["slip_profile"], m["grow"],
-                                     _coefficient(m, "friction"), _coefficient(m, "cohesion"))
+                                     _coefficient(m, "friction"), _coefficient(m, "cohesion"),
+                                     _coefficient(m, "pressure"), _joined_to(m, len(meta["fractures"])))
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
                  "fset": FractureSet(fractures), "sizes": sizes, "history": history}
@@ -134,12 +138,26 @@ def _points(p) -> np.ndarray:
 
 
 def _coefficient(m: dict, name: str) -> float:
-    """A fracture's friction or cohesion: finite and >= 0, as the case reader
-    asks (a NaN would pass into the friction bound unseen)."""
+    """A fracture's friction, cohesion or pressure: finite and >= 0, as the
+    case reader asks (a NaN would pass into the friction bound or the face
+    loads unseen)."""
     v = m[name]
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
         raise ValueError(f"{name} {v!r} is not a finite number >= 0")
     return float(v)
+
+
+def _joined_to(m: dict, n: int) -> list:
+    """A fracture's joined_to: per end None or the index of one of the n
+    fractures (a stray index would connect pressures to nothing, or fail
+    later far from its cause)."""
+    v = m["joined_to"]
+    if not isinstance(v, list) or len(v) != 2:
+        raise ValueError(f"joined_to {v!r} is not a pair")
+    for g in v:
+        if g is not None and (isinstance(g, bool) or not isinstance(g, int) or not 0 <= g < n):
+            raise ValueError(f"joined_to {v!r} names no fracture of the {n}")
+    return list(v)
 
 
 def _reason(err: BaseException) -> str:

@@ -29,10 +29,13 @@ class CriticalLoad:
 
 def scales_with_load(case, fset) -> bool:
     """Does the whole response of the fracture set `fset` scale with the
-    load factor (a scaled load, no in-situ stress, no body force, no gap)?"""
+    load factor (a scaled load, no in-situ stress, no body force, no gap;
+    with load = "pressure" also no bc value or slip, which stay fixed)?"""
     m = case.material
     body = m.density * np.linalg.norm(case.body.gravity)
-    return (case.propagation.load == "scale" and not np.any(case.stress.tensor())
+    load = case.propagation.load
+    fixed = load == "pressure" and (any(any(b.value) for b in case.bcs) or any(f.slip for f in fset.fractures))
+    return (load in ("scale", "pressure") and not fixed and not np.any(case.stress.tensor())
             and body == 0 and all(f.gap == 0 for f in fset.fractures))
 
 

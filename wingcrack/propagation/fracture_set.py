@@ -4,7 +4,9 @@ Each fracture keeps its pre-existing polyline as points[pre[0]:pre[1]+1];
 wings are the parts before pre[0] (grown from end 0) and after pre[1]
 (grown from end 1). An end's state: "tip" (may grow), "joined" (ended on
 another fracture as a T), "boundary" (on the outer boundary: an edge-crack
-mouth or a wing that reached it).
+mouth or a wing that reached it). A joined end records the fracture it
+met in `joined_to`; fractures linked that way are hydraulically connected
+(connect_pressures).
 """
 from __future__ import annotations
 
@@ -17,7 +19,13 @@ import numpy as np
 class GrowingFracture:
     """One fracture of the network. faces, gap, slip, slip_profile, grow,
     friction (Coulomb mu) and cohesion (Pa) are the case fracture's; the
-    wings take wing_faces() with the same friction and cohesion."""
+    wings take wing_faces() with the same friction and cohesion.
+
+    pressure: the fluid pressure (Pa, at load factor 1) in the fracture and
+    its wings: the case's, raised by FractureSet.connect_pressures once it is
+    connected to a fracture with a higher one. joined_to: per end, the index
+    of the fracture that end met ("joined": as a T-junction on it, or tip to
+    tip with one of its ends), else None."""
 
     points: np.ndarray
     pre: tuple[int, int]
@@ -29,6 +37,8 @@ class GrowingFracture:
     grow: bool
     friction: float = 0.0
     cohesion: float = 0.0
+    pressure: float = 0.0
+    joined_to: list = field(default_factory=lambda: [None, None])
 
     @property
     def pre_points(self) -> np.ndarray:
@@ -84,7 +94,7 @@ class FractureSet:
             pts = np.asarray(f.points, float).copy()
             ends = ["boundary" if case.domain.on_boundary(p, tol) else "tip" for p in (pts[0], pts[-1])]
             out.append(GrowingFracture(pts, (0, len(pts) - 1), ends, f.faces, f.gap, f.slip,
-                                       f.slip_profile, f.grow, f.friction, f.cohesion))
+                                       f.slip_profile, f.grow, f.friction, f.cohesion, f.pressure))
         return cls(out)
 
     def polylines(self) -> list:
@@ -96,7 +106,43 @@ class FractureSet:
                 for e in (0, 1) if f.ends[e] == "tip"]
 
     def copy(self) -> "FractureSet":
-        return FractureSet([replace(f, points=f.points.copy(), ends=list(f.ends)) for f in self.fractures])
+        return FractureSet([replace(f, points=f.points.copy(), ends=list(f.ends), joined_to=list(f.joined_to))
+                            for f in self.fractures])
+
+    def connected_groups(self) -> list:
+        """The hydraulically connected groups: sorted lists of fracture
+        indices, linked through joined_to in either direction and
+        transitively (a fracture on its own is a group of one)."""
+        n = len(self.fractures)
+        parent = list(range(n))
+
+        def root(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for i, f in enumerate(self.fractures):
+            for g in f.joined_to:
+                if g is not None:
+                    parent[root(i)] = root(g)
+        groups: dict = {}
+        for i in range(n):
+            groups.setdefault(root(i), []).append(i)
+        return sorted(groups.values())
+
+    def connect_pressures(self) -> bool:
+        """Every connected group takes the highest pressure among its
+        fractures (the injected fluid floods what it reaches; nothing drains
+        it). Returns whether any pressure changed."""
+        changed = False
+        for group in self.connected_groups():
+            p = max(self.fractures[i].pressure for i in group)
+            for i in group:
+                if self.fractures[i].pressure != p:
+                    self.fractures[i].pressure = p
+                    changed = True
+        return changed
 
     def summary(self) -> list:
         """summary.json's fractures: [{points, origin, fracture}], each case

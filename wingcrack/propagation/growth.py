@@ -7,14 +7,16 @@ growth and its tip frame):
 2. direction: the MTS kink angle theta; length: the growth law
    L_i = Lmax (G_i / max G)^alpha with G_i = K_eq^2 / E' and the L_min rule
    (growth_law.advances); both rounded to grids (see ANGLE_GRID);
-3. joining.place_tip: free, on another fracture ("joined", a T) or on the
+3. joining.placement: free, on another fracture ("joined", a T) or on the
    boundary;
 4. a join onto the tip's own polyline would close a loop around a piece of
    the body that nothing holds; the tip goes straight to its proposed point
    instead when that point leaves the mesher the room a rosette needs
    (clear_of_own_fracture), and does not grow otherwise;
 5. a join within reach of another fracture's free end meets that end
-   (tip to tip: both stop);
+   (tip to tip: both stop). A joined end records the fracture it met in
+   joined_to (tip to tip: both ends), which connects the two hydraulically
+   (FractureSet.connect_pressures);
 6. short straight growth moves the tip node, anything else adds a segment.
 After all tips: no two fractures cross (ComputationError otherwise).
 """
@@ -31,7 +33,7 @@ from ..errors import ComputationError
 from ..material import e_prime
 from ..parallel import snap
 from .growth_law import L_MIN, STRAIGHT, advances
-from .joining import place_tip
+from .joining import placement
 
 #: the join distance, in rosette radii (see joining.py): the clearance the
 #: mesher keeps around a rosette
@@ -158,7 +160,7 @@ def grow(fset, candidates: list, n_tips: int, rule: Rule, domain) -> Growth:
             tip.state = f.ends[c.end]
             continue
         d = np.cos(theta[j]) * np.asarray(c.ex, float) + np.sin(theta[j]) * np.asarray(c.ey, float)
-        p, state = place_tip(fset, c.fracture, c.end, d, L[j], domain, rule.reach)
+        p, state, met = placement(fset, c.fracture, c.end, d, L[j], domain, rule.reach)
         moves_node = abs(theta[j]) <= STRAIGHT and L[j] < Lmin   # straight on, short: the tip node moves
         if state == "joined" and on_own_fracture(f, c.end, p):
             p = f.tip(c.end) + L[j] * d
@@ -169,13 +171,15 @@ def grow(fset, candidates: list, n_tips: int, rule: Rule, domain) -> Growth:
                 continue
             state = "tip"
         elif state == "joined":   # on another fracture's growing end: link them end to end
-            p = meet_tip_to_tip(fset, c.fracture, p, rule.reach)
+            p, tip_met = meet_tip_to_tip(fset, c.fracture, p, rule.reach)
+            met = met if tip_met is None else tip_met
         a = f.tip(c.end)
         if moves_node and state == "tip":
             f.move_tip(c.end, p)
         else:
             f.extend(c.end, p)
         f.ends[c.end] = state
+        f.joined_to[c.end] = met if state == "joined" else None
         tip.state = "growing" if state == "tip" else state
         tip.advance = float(np.linalg.norm(p - a))
     check_no_crossing(fset)
@@ -237,15 +241,18 @@ def clear_of_own_fracture(fset, fi: int, end: int, grown, rule: Rule, domain) ->
 def meet_tip_to_tip(fset, fi, p, reach):
     """A join point within `reach` of another fracture's free end (a tip)
     would leave that tip's rosette no room: the two meet at that end, which
-    stops growing too ("joined"). Returns the join point."""
+    stops growing too ("joined", joined_to fracture `fi`). Returns the join
+    point and the index of the fracture met (None when no tip is within
+    reach: `p` unchanged)."""
     for g, other in enumerate(fset.fractures):
         if g == fi:
             continue
         for e in (0, 1):
             if other.ends[e] == "tip" and np.linalg.norm(other.tip(e) - p) <= reach:
                 other.ends[e] = "joined"
-                return other.tip(e).copy()
-    return p
+                other.joined_to[e] = fi
+                return other.tip(e).copy(), g
+    return p, None
 
 
 def crossing_pair(polys):

@@ -67,25 +67,33 @@ def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: 
     """(new tip point, state) for tip `end` of fracture `fi` growing by
     `length` along the unit `direction`; state is "tip", "joined" or
     "boundary"."""
+    p, state, _ = placement(fset, fi, end, direction, length, domain, reach)
+    return p, state
+
+
+def placement(fset, fi: int, end: int, direction, length: float, domain, reach: float):
+    """place_tip's (point, state) and the index of the fracture a "joined"
+    tip ended on (None otherwise; `fi` itself when it is its own polyline,
+    which the caller refuses as a join)."""
     f = fset.fractures[fi]
     a = f.tip(end)
     d = np.asarray(direction, float)
     # look a little beyond the step so that "stretching" onto a close
     # fracture or boundary is found as a crossing along the direction
     b_far = a + d * (length + reach)
-    best_t, state = None, "tip"
-    for _, p, q in _segments_of(fset, (fi, end)):
+    best_t, state, met = None, "tip", None
+    for i, p, q in _segments_of(fset, (fi, end)):
         hit, t, _, _ = K.segment_intersection(a, b_far, p, q, 1e-12)
         if hit and t > 1e-9 and (best_t is None or t < best_t):
-            best_t, state = t, "joined"
+            best_t, state, met = t, "joined", i
     tb = _boundary_hit(domain, a, b_far)
     if tb is not None and (best_t is None or tb < best_t):
-        best_t, state = tb, "boundary"
+        best_t, state, met = tb, "boundary", None
     if best_t is not None:
-        return a + best_t * (b_far - a), state
+        return a + best_t * (b_far - a), state, met
     b = a + d * length
     # close to something without reaching it along the direction
-    dmin, foot = np.inf, None
+    dmin, foot, near = np.inf, None, None
     for i, g in enumerate(fset.fractures):
         pts = g.points
         if i == fi:
@@ -97,12 +105,12 @@ def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: 
                 continue
         dist, point, _, _ = K.closest_point_on_polyline(b, pts)
         if dist < dmin:
-            dmin, foot = dist, np.asarray(point)
+            dmin, foot, near = dist, np.asarray(point), i
     db = domain.distance_to_boundary(b)
     if db < reach and db <= dmin:
-        return np.asarray(domain.project(b)[0]), "boundary"
+        return np.asarray(domain.project(b)[0]), "boundary", None
     if dmin < reach:
-        return foot, "joined"
+        return foot, "joined", near
     # the rosette radius the reach is made of; the next mesh's is at most this
     h = reach / admissibility.TIP_CLEARANCE
     for i, g in enumerate(fset.fractures):
@@ -110,5 +118,5 @@ def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: 
             if (i, e) != (fi, end) and g.ends[e] == "tip" and \
                     np.linalg.norm(g.tip(e) - b) <= admissibility.rosettes_apart(h, h):
                 # its own other tip: the caller sees a join on its own fracture (no growth)
-                return g.tip(e).copy(), "joined"
-    return b, "tip"
+                return g.tip(e).copy(), "joined", i
+    return b, "tip", None

@@ -40,14 +40,22 @@ NO_TIP_AT_ALL = "stopped: no tip can grow (no fracture has a free tip that may g
 NO_STEPS = "stopped: propagation.steps = 0 (no step asked for; `wingcrack sif` solves the initial geometry)"
 
 
+#: the load modes in which each step searches the critical load factor ("pressure": of the
+#: fracture pressures only, the critical injection pressure)
+SEARCHED = ("scale", "pressure")
+
 #: added to the load-limit status of a case in which the load factor multiplies nothing
 NOTHING_SCALES = (" (nothing in the case scales with it: every [[bc]] value and slip is 0, and the in-situ stress "
                   "and gravity are not scaled)")
 
 
 def _scaled_load(case) -> bool:
-    """Does the load factor multiply anything (a non-zero bc value or slip)?"""
-    return any(any(b.value) for b in case.bcs) or any(f.slip for f in case.fractures)
+    """Does the load factor multiply anything (a non-zero bc value, slip or
+    fracture pressure; with load = "pressure" the pressures only)?"""
+    pressure = any(getattr(f, "pressure", 0.0) for f in case.fractures)
+    if case.propagation.load == "pressure":
+        return pressure
+    return any(any(b.value) for b in case.bcs) or any(f.slip for f in case.fractures) or pressure
 
 
 def no_tip_left(records) -> str:
@@ -133,7 +141,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     fset = FractureSet.from_case(case)
     prop = case.propagation
     rule = growth.Rule.of(case)
-    lam = 0.0 if prop.load == "scale" else 1.0
+    lam = 0.0 if prop.load in SEARCHED else 1.0
     records, status = [], "finished"
     disc = None
     shown = None   # the discretisation of the last recorded step, while it is not released
@@ -176,7 +184,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             if not grow:
                 status = no_tip_left(records)
                 break
-            if prop.load == "scale":
+            if prop.load in SEARCHED:
                 crit = _critical_load(case, disc, fset, grow, lam)
                 if crit.load_factor is None:
                     status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}" \
@@ -218,6 +226,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
                 shown = disc
+                if prop.connect_pressure:   # the next step meshes and loads with the connected pressures
+                    fset.connect_pressures()
                 done = fset.copy()
                 history = converged
                 write("running")
