@@ -35,8 +35,6 @@ CENTRAL_LENGTH = 2.5            # m, the injected fracture, of the 30-degree set
 CLUSTER = 3.5                   # m, standard deviation of the centres about the middle
 MARGIN = 3.0                    # m, no fracture point nearer the edges
 MIN_GAP = 0.5                   # m, between any two fractures
-#: until the pressure keys exist on this branch they are written commented
-PRE = "# "
 
 
 def segment_distance(p1, p2, q1, q2) -> float:
@@ -169,12 +167,13 @@ sxy = 0.0
 size = 2.0
 tip_size = 0.15
 sectors = 16
+adaptive = false
 
 [propagation]
 # steps of at most one rosette: 50 of them reach the neighbours 0.5 to 3 m away
 steps = 50
 length = 0.15
-{pre}load = "pressure"
+load = "pressure"
 """
 
 
@@ -190,8 +189,8 @@ def case_text(seed: int = SEED) -> str:
         lines.append(f"points = [[{f['a'][0]:.3f}, {f['a'][1]:.3f}], [{f['b'][0]:.3f}, {f['b'][1]:.3f}]]\n")
         lines.append('faces = "coulomb"\nfriction = 0.6\n')
         if i == 0:
-            lines.append(f"{PRE}pressure = 50.0e6\n")
-    lines.append(FOOTER.format(size=SIZE, pre=PRE))
+            lines.append("pressure = 50.0e6\n")
+    lines.append(FOOTER.format(size=SIZE))
     return "".join(lines)
 
 
