@@ -125,11 +125,10 @@ HEADER = """\
 #
 # Injection (propagation.load = "pressure"): the load factor multiplies the
 # fracture pressures only; the in-situ stress stays. The given pressure is
-# the reference |sigma_h| = 50 MPa, so the load factor is the injection
-# pressure in units of sigma_h (factor 1: the fluid could open a fracture
-# normal to sigma_h). An isolated 2.5 m fracture at +30 deg starts wings at
-# p_c = sigma_n - (|tau| - (sqrt(3)/2) KIc / sqrt(pi a)) / mu = 36.9 MPa
-# (factor 0.74). Each fracture a wing links to takes the injected pressure
+# the reference 1 MPa, so the load factor is the injection pressure in MPa.
+# An isolated 2.5 m fracture at +30 deg starts wings at
+# p_c = sigma_n - (|tau| - (sqrt(3)/2) KIc / sqrt(pi a)) / mu = 36.9 MPa;
+# above |sigma_h| = 50 MPa the fluid opens what lies normal to y. Each fracture a wing links to takes the injected pressure
 # (propagation.connect_pressure, the default): the network floods what it
 # reaches.
 title = "Stimulation of a fracture network: injection into the central fracture"
@@ -189,7 +188,7 @@ def case_text(seed: int = SEED) -> str:
         lines.append(f"points = [[{f['a'][0]:.3f}, {f['a'][1]:.3f}], [{f['b'][0]:.3f}, {f['b'][1]:.3f}]]\n")
         lines.append('faces = "coulomb"\nfriction = 0.6\n')
         if i == 0:
-            lines.append("pressure = 50.0e6\n")
+            lines.append("pressure = 1.0e6                    # the reference: load factor = injection pressure in MPa\n")
     lines.append(FOOTER.format(size=SIZE))
     return "".join(lines)
 
