@@ -85,9 +85,9 @@ def row(name: str, out: Path, wall: float, number: int) -> str:
     linked = "; ".join(f"{f + number}.{e} -> {'edge' if h is None else h + number} (step {k})"
                        for f, e, k, h in joins(s)) or "none"
     pressed = ""
-    if "pressures" in steps[-1]:
+    if any(steps[-1].get("pressures") or [0.0]):
         p = np.asarray(steps[-1]["pressures"], dtype=float)
-        pressed = ", ".join(str(i + number) for i in np.flatnonzero(p > 0)) or "none"
+        pressed = ", ".join(str(i + number) for i in np.flatnonzero(p > 0))
         peak = max(st["load_factor"] for st in steps)
         pressed += f" (peak {load_at(case, peak)})"
     solves = [st.get("solves", 1) for st in steps]
