@@ -5,8 +5,9 @@ once to compile the forms and then REPEAT times, and prints the phases
 (mesh, to-DOLFINx, assemble, factorize, solve, SIF, output) with their share;
 then the mesher alone on the disc (mesh_disc.py), the propagation cases
 (propagation.py), Coulomb friction against frictionless contact on one mesh
-and what friction changes in the cases (friction_cases.py), and the 30k-1M
-DOF scaling on 1 and 2 MPI ranks (scaling.py).
+and what friction changes in the cases (friction_cases.py), what injection
+changes in paper 4.3 (pressure_cases.py), and the 30k-1M DOF scaling on 1 and
+2 MPI ranks (scaling.py).
 """
 from __future__ import annotations
 
@@ -158,6 +159,8 @@ def main(argv=None):
     bench_propagation()
     from friction_cases import main as bench_friction_cases
     bench_friction_cases([])
+    from pressure_cases import main as bench_pressure_cases
+    bench_pressure_cases([])
     from scaling import main as bench_scaling
     bench_scaling([])
 
