@@ -106,3 +106,37 @@ def test_a_kink_folding_back_onto_its_own_crack_is_not_a_join():
                         "open", 0.0, 0.0, "uniform", True)
     assert on_own_fracture(f, 1, np.array([0.95, 0.0]))        # back on its own first segment
     assert not on_own_fracture(f, 1, np.array([0.85, 0.3]))    # free space
+
+
+@pytest.mark.parametrize("angle", [90.0, 60.0])
+def test_closed_coulomb_t_junction_is_not_singular(angle):
+    """The same T with Coulomb faces (wing included): the junction's three
+    pairs have two independent jumps (the wing's is the difference of the
+    host's two), so they keep their normal rows only (with tangential rows
+    too the pair system was singular once all were closed: the network case
+    failed so; with the wing's pair dropped instead its faces interpenetrated
+    at the junction, 3.6e-6 m here, while the host's pairs slipped).
+    Hydrostatic compression: every pair closed, no displacement, the contact
+    pressure S, no shear."""
+    host = np.array([[-1.0, 0.0], [1.0, 0.0]])
+    a = np.radians(angle)
+    wing = np.array([[0.2 + 0.8 * np.cos(a), 0.8 * np.sin(a)], [0.2, 0.0]])
+    d = square_plate_with_cracks(L, [host], (-S, -S, 0.0), size=1.0, tip_size=0.05)
+    d["fractures"][0].update(faces="coulomb", friction=0.6)
+    case = Case.from_dict(d)
+    fractures = [case.fractures[0], replace(case.fractures[0], points=wing)]
+    disc = discretise(case, fractures, Timer())
+    cm, problem, contact = disc.cm, disc.problem, disc.contact
+    junction = np.flatnonzero(np.linalg.norm(cm.x - wing[-1], axis=1) < 1e-14)
+    rows = contact.rows
+    at = np.isin(rows.plus, junction) & np.isin(rows.minus, junction)
+    assert at.sum() == 3 and rows.normal[at].all()   # the three pairs' normal rows, no tangential
+    np.linalg.cholesky(contact.op.S)   # SPD: no dependent rows
+    res = contact.solve(1.0)
+    assert res.active[rows.normal].all() and not res.fallback
+    x = np.asarray(cm.x)
+    u = nodal_displacements(problem.fm, problem.u, np.arange(len(x)))
+    assert np.abs(u).max() < 1e-12 * S * L / case.material.E
+    t = contact.tractions()
+    np.testing.assert_allclose(t[rows.normal], -S, rtol=1e-8)
+    assert np.abs(t[~rows.normal]).max() < 1e-8 * S

@@ -188,6 +188,24 @@ def _meeting_normals(cm, pairs, pfrac) -> dict:
     return out
 
 
+def _junction_pairs(pairs, pfrac) -> set:
+    """Pairs with a node copy that pairs of another fracture share: at a
+    T-junction the host's two pairs there and the joining fracture's (whose
+    jump is the difference of the host's two), where fractures meet end to
+    end the one pair of both. There the jumps have fewer independent
+    components than the pairs have normal and tangential rows, so a Coulomb
+    pair there keeps its normal row only (non-penetration stays on every
+    face; the junction node itself slides without friction): with all rows
+    the pair system is singular once they are all closed, and with the
+    joining pair's rows dropped instead its faces interpenetrate at the
+    junction while the host's slip."""
+    owners = {}
+    for i, (a, b) in enumerate(pairs):
+        for v in (int(a), int(b)):
+            owners.setdefault(v, set()).add(int(pfrac[i]))
+    return {i for i, (a, b) in enumerate(pairs) if len(owners[int(a)]) > 1 or len(owners[int(b)]) > 1}
+
+
 def constraint_rows(cm, fractures) -> ConstraintRows:
     """Rows for every pair of the CrackMesh `cm`; `fractures` are the case's
     Fracture objects (faces, gap, slip, slip_profile) or the propagation's
@@ -224,6 +242,7 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
     # host prescribes slip there, the joining fracture's own pair would repeat
     # a combination of the host's rows (a singular pair system): it gets none.
     slip_nodes = {int(v) for i, part in enumerate(parts) if part[0] == "slip" for v in pairs[i]}
+    junction = _junction_pairs(pairs, pfrac)
     # Where two fractures meet end to end, both own the same two node copies:
     # one pair (the first); its rows get each fracture's normal (unless
     # parallel), since the copies must not overlap across either face.
@@ -257,7 +276,7 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
         t = np.array([n[1], -n[0]])
         if faces == "slip":
             add(i, t, TANGENTIAL, 0.0, slip_profile(f, x[pairs[i, 0]], pts))
-        elif faces == "coulomb":
+        elif faces == "coulomb" and i not in junction:
             add(i, t, TANGENTIAL, 0.0, 0.0, law=(first, float(f.friction), float(f.cohesion)))
     m = len(rows["plus"])
     return ConstraintRows(
