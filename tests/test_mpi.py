@@ -127,7 +127,10 @@ def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
     for p, q in zip(fa, fb):
         assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * size
     if "injection" in case:   # the pressure went the same way through the network
-        assert [st["pressures"] for st in a["steps"]] == [st["pressures"] for st in b["steps"]]
+        for sa, sb in zip(a["steps"], b["steps"]):   # the load factor's round-off (1e-8, as above)
+            pa, pb = np.array(sa["pressures"]), np.array(sb["pressures"])
+            assert pa.shape == pb.shape and np.all((pa > 0) == (pb > 0))
+            assert np.abs(pa - pb).max() <= 1e-8 * pa.max()
     if "friction" in case or "injection" in case:   # the slip history went the same way: the last faces agree
         import meshio
         last = f"faces_{len(a['steps']) - 1:04d}.vtu"
