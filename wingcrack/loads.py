@@ -59,8 +59,8 @@ def face_pressure_forces(cm, pressures) -> np.ndarray:
     # orient each edge's normal as the pair normal of its mid node (a mid node is never a tip)
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     pn = np.asarray(cm.pair_normal, float).reshape(-1, 2)
-    where = {int(a): k for k, a in enumerate(pairs[:, 0])}
-    ref = pn[[where[int(v)] for v in plus[:, 2]]]
+    order = np.argsort(pairs[:, 0])
+    ref = pn[order[np.searchsorted(pairs[order, 0], plus[:, 2])]]
     n *= np.sign(np.sum(n * ref, axis=1))[:, None]
     w = edge_integrals(x, plus) * pe[:, None]                # (k, 3) p int N_i ds
     for side, edges in ((1.0, plus), (-1.0, minus)):
@@ -74,7 +74,7 @@ def case_loads(case, cm, fractures=None) -> Loads:
     order; default the case's), whose `pressure` loads the faces."""
     loads = Loads()
     fractures = case.fractures if fractures is None else fractures
-    loads.face_forces = face_pressure_forces(cm, [float(getattr(f, "pressure", 0.0)) for f in fractures])
+    loads.face_forces = face_pressure_forces(cm, [float(f.pressure) for f in fractures])
     loads.mode = case.propagation.load
     points = np.asarray(case.bc_points(), float).reshape(-1, 2)
     for bc in case.bcs:

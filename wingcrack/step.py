@@ -182,10 +182,9 @@ class Discretisation:
         c = self.contact
         if c.result is not None:
             normal = c.rows.normal
-            normal_traction[c.rows.pair[normal]] = c.normal_traction()[normal]
-            tangential = ~normal
-            tangential_traction[c.rows.pair[tangential]] = (-c.result.mu[tangential]
-                                                            / np.maximum(c.rows.weight[tangential], 1e-300))
+            t = c.tractions()
+            normal_traction[c.rows.pair[normal]] = t[normal]
+            tangential_traction[c.rows.pair[~normal]] = t[~normal]
         pressure = self.pressure_at(self.problem.load_factor_solved)[np.asarray(self.cm.pair_fracture, np.int64)] \
             if len(pairs) else np.zeros(0)
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
@@ -286,7 +285,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact, np.array([float(getattr(f, "pressure", 0.0)) for f in fractures]))
+    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]))
 
 
 def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
@@ -329,8 +328,8 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
            states=None, advances=None) -> StepRecord:
     """The record of solved step k (tip states and advances when it grew;
     "arrested" and 0 otherwise), its files written when there is an output
-    folder `out`; the fractures' pressures at `load_factor` when `disc` can
-    tell them (Discretisation.pressure_at)."""
+    folder `out`; the fractures' pressures at `load_factor`
+    (Discretisation.pressure_at)."""
     if out is not None:
         write_step_files(out, k, load_factor, disc)
         timer.lap("output")
@@ -338,8 +337,7 @@ def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, ti
     advances = advances or [0.0] * len(tips)
     seconds = {name: round(v, 6) for name, v in timer.seconds.items()}
     seconds["total"] = round(sum(timer.seconds.values()), 6)
-    pressure_at = getattr(disc, "pressure_at", None)
-    pressures = [float(p) for p in pressure_at(load_factor)] if pressure_at is not None else []
+    pressures = [float(p) for p in disc.pressure_at(load_factor)]
     return StepRecord(k, load_factor, disc.dofs, disc.cells,
                       [TipRecord.of(t, s, a) for t, s, a in zip(tips, states, advances)],
                       disc.contact_record(), seconds, {n: disc.cm.stats[n] for n in MESH_STATS}, solves,

@@ -52,7 +52,7 @@ NOTHING_SCALES = (" (nothing in the case scales with it: every [[bc]] value and 
 def _scaled_load(case) -> bool:
     """Does the load factor multiply anything (a non-zero bc value, slip or
     fracture pressure; with load = "pressure" the pressures only)?"""
-    pressure = any(getattr(f, "pressure", 0.0) for f in case.fractures)
+    pressure = any(f.pressure for f in case.fractures)
     if case.propagation.load == "pressure":
         return pressure
     return any(any(b.value) for b in case.bcs) or any(f.slip for f in case.fractures) or pressure
