@@ -9,15 +9,14 @@ step 0 and at the last step (from the face files).
 """
 from __future__ import annotations
 
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-WINGCRACK = Path(sys.executable).with_name("wingcrack")
+from propagation import run_case
+
 
 #: (frictionless original, its friction version)
 PAIRS = [("brazilian_disc_45", "brazilian_disc_45_friction"),
@@ -71,10 +70,9 @@ def main(argv=None) -> None:
         for pair in PAIRS:
             for name in pair:
                 out = base / name
-                proc = subprocess.run([str(WINGCRACK), "run", str(ROOT / "cases" / f"{name}.toml"), "-o", str(out),
-                                       "--quiet", "--force"], capture_output=True, text=True)
-                if proc.returncode not in (0, 1):
-                    print(f"| `{name}` | exit {proc.returncode}: {proc.stderr.strip()[-200:]} |")
+                r = run_case(name, out)
+                if r["exit"] not in (0, 1):
+                    print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
                     continue
                 print(row(name, out), flush=True)
 

@@ -10,17 +10,16 @@ solves per step, and the wall time of the run.
 """
 from __future__ import annotations
 
-import subprocess
 import sys
 import tempfile
-import time
 import tomllib
 from pathlib import Path
 
 import numpy as np
 
+from propagation import run_case
+
 ROOT = Path(__file__).resolve().parents[1]
-WINGCRACK = Path(sys.executable).with_name("wingcrack")
 
 #: the README's table: 4.3 with its imposed slip, with friction, driven by injection
 CASES = ["three_fractures_slip", "three_fractures_friction", "three_fractures_injection"]
@@ -109,14 +108,11 @@ def main(argv=None) -> None:
         print("|---|---|---|---|---|---|---|---|---|")
         for name in names:
             out = base / name
-            t0 = time.perf_counter()
-            proc = subprocess.run([str(WINGCRACK), "run", str(ROOT / "cases" / f"{name}.toml"), "-o", str(out),
-                                   "--quiet", "--force", "--no-plots"], capture_output=True, text=True)
-            wall = time.perf_counter() - t0
-            if proc.returncode not in (0, 1):
-                print(f"| `{name}` | exit {proc.returncode}: {proc.stderr.strip()[-200:]} |")
+            r = run_case(name, out)
+            if r["exit"] not in (0, 1):
+                print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
                 continue
-            print(row(name, out, wall, 0 if name == "stimulation_network" else 1), flush=True)
+            print(row(name, out, r["wall"], 0 if name == "stimulation_network" else 1), flush=True)
 
 
 if __name__ == "__main__":
