@@ -18,6 +18,7 @@ from dolfinx.fem import petsc as fpetsc
 from petsc4py import PETSc
 
 from ..loads import Loads
+from . import compiled
 from ..material import lame
 
 
@@ -46,7 +47,7 @@ class ElasticProblem:
         u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
         ds = ufl.Measure("ds", domain=msh, subdomain_data=fm.facet_tags)
         dx = ufl.Measure("dx", domain=msh)
-        self.a = fem.form(ufl.inner(self.stress(u, total=False), strain(v)) * dx)
+        self.a = compiled.form(ufl.inner(self.stress(u, total=False), strain(v)) * dx, ("elasticity.stiffness",))
 
         L = ufl.inner(self.body, v) * dx - ufl.inner(self.sigma0, strain(v)) * dx
         n = ufl.FacetNormal(msh)
@@ -57,7 +58,7 @@ class ElasticProblem:
             c = fem.Constant(msh, np.array([tx, ty], dtype=PETSc.ScalarType))
             self._traction_values.append(c)
             L += self.load_factor * ufl.inner(c, v) * ds(int(tag))
-        self.L = fem.form(L)
+        self.L = compiled.form(L, ("elasticity.load",))
 
         self.bcs, self._bc_values = self._dirichlet(loads)
         self._point_forces = self._locate_point_forces(loads.point_forces)
@@ -89,7 +90,8 @@ class ElasticProblem:
         """U = 1/2 int (C:eps(u)):eps(u) dx of the current displacement (J/m)."""
         if not hasattr(self, "_energy_form"):
             u = self.u
-            self._energy_form = fem.form(0.5 * ufl.inner(self.stress(u, total=False), strain(u)) * ufl.dx)
+            self._energy_form = compiled.form(0.5 * ufl.inner(self.stress(u, total=False), strain(u)) * ufl.dx,
+                                              ("elasticity.energy",))
         return self.fm.mesh.comm.allreduce(fem.assemble_scalar(self._energy_form))
 
     def nodal_displacements(self, nodes) -> np.ndarray:

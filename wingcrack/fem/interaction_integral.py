@@ -23,13 +23,14 @@ from dolfinx import fem
 from petsc4py import PETSc
 
 from ..material import e_prime, in_plane_strain, kappa
+from . import compiled
 
 
 class InteractionIntegral:
     def __init__(self, problem, E: float, nu: float, plane: str, sigma0: np.ndarray, quadrature_degree: int = 6):
         self.problem = problem
         msh = problem.fm.mesh
-        self.Q = fem.FunctionSpace(msh, ("Lagrange", 1))
+        self.Q = compiled.function_space(msh, ufl.FiniteElement("Lagrange", msh.ufl_cell(), 1))
         self.q = fem.Function(self.Q)
         self.tip = fem.Constant(msh, np.zeros(2, dtype=PETSc.ScalarType))
         self.R = fem.Constant(msh, np.eye(2, dtype=PETSc.ScalarType))  # rows: ex, ey
@@ -111,4 +112,4 @@ class InteractionIntegral:
         tags = meshtags(msh, msh.topology.dim, cells, np.ones(len(cells), dtype=np.int32))
         dx = ufl.Measure("dx", domain=msh, subdomain_data=tags,
                          metadata={"quadrature_degree": self.quadrature_degree})
-        return fem.form(self.integrand * dx(1))
+        return compiled.form(self.integrand * dx(1), ("interaction_integral", self.kappa))

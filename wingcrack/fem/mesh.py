@@ -17,6 +17,8 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
+from . import compiled
+
 #: P2 triangle nodes, CrackMesh (gmsh) order [v0, v1, v2, m01, m12, m20] ->
 #: DOLFINx order [v0, v1, v2, m12, m20, m01] (a mid node sits opposite the
 #: vertex of its number): cells_dolfinx = cells_gmsh[:, GMSH_TO_DOLFINX].
@@ -59,7 +61,10 @@ class FEMesh:
 
 
 def _coordinate_domain() -> ufl.Mesh:
-    return ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 2))
+    # FFCx gives a coordinate element without a variant the equispaced one,
+    # in place, at its first form on the mesh, which changes the
+    # signatures of the mesh's later forms (fem.compiled keys on the element)
+    return ufl.Mesh(ufl.VectorElement(ufl.FiniteElement("Lagrange", ufl.triangle, 2, variant="equispaced")))
 
 
 def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
@@ -83,7 +88,7 @@ def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
     adj = _cpp.graph.AdjacencyList_int32(local_entities)
     ft = dmesh.meshtags_from_entities(msh, tdim - 1, adj, local_values.astype(np.int32))
 
-    V = fem.VectorFunctionSpace(msh, ("Lagrange", 2))
+    V = compiled.function_space(msh, ufl.VectorElement("Lagrange", msh.ufl_cell(), 2))
     geo = msh.geometry.dofmap.array
     dofs = V.dofmap.list.array
     node_dof = np.full(msh.geometry.x.shape[0], -1, dtype=np.int32)

@@ -6,6 +6,8 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from . import compiled
+
 
 def _nodal_stress(problem) -> np.ndarray:
     """Total stress (sxx, syy, sxy) at the P2 nodes, per local geometry node.
@@ -13,9 +15,10 @@ def _nodal_stress(problem) -> np.ndarray:
     The stress is discontinuous between cells; each node takes the value of
     one of its cells (display only)."""
     fm = problem.fm
-    T = fem.VectorFunctionSpace(fm.mesh, ("Lagrange", 2), dim=3)
+    T = compiled.function_space(fm.mesh, ufl.VectorElement("Lagrange", fm.mesh.ufl_cell(), 2, dim=3))
     s = problem.stress(problem.u, total=True)
-    expr = fem.Expression(ufl.as_vector([s[0, 0], s[1, 1], s[0, 1]]), T.element.interpolation_points())
+    expr = compiled.expression(ufl.as_vector([s[0, 0], s[1, 1], s[0, 1]]), T.element.interpolation_points(),
+                               ("nodal_fields.stress",))
     f = fem.Function(T)
     f.interpolate(expr)
     node_dof = fm.node_dof  # same P2 layout as the displacement space

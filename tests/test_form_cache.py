@@ -1,0 +1,159 @@
+"""fem.compiled: forms, elements and expressions compiled once per run give
+the numbers dolfinx.fem.form / fem.Expression / fem.FunctionSpace give on
+the same mesh, to the last bit (the same generated kernels), and a form that
+differs (quadrature degree, boundary tags, a material number in the
+expression) gets its own compiled form. The reference is dolfinx's own
+compile path, swapped in for the cache on the same mesh."""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+
+from builders import square_plate_with_cracks
+from wingcrack.case import Case
+from wingcrack.fem import compiled
+from wingcrack.fem.cell_stress import cell_stress
+from wingcrack.fem.elasticity import ElasticProblem
+from wingcrack.fem.interaction_integral import InteractionIntegral
+from wingcrack.fem.mesh import to_dolfinx
+from wingcrack.fem.nodal_fields import local_nodal_fields
+from wingcrack.loads import case_loads
+from wingcrack.step import Timer, discretise
+from wingcrack.tip_sifs import tip_sifs
+
+
+def plate(nu=0.25, plane="strain"):
+    t = np.array([np.sin(np.radians(60)), np.cos(np.radians(60))])
+    return Case.from_dict(square_plate_with_cracks(40.0, [[-t, t]], (2.0e5, 1.0e6, 3.0e5), size=4.0,
+                                                   tip_size=0.1, nu=nu, plane=plane))
+
+
+@pytest.fixture(scope="module")
+def crack_mesh():
+    case = plate()
+    return case, discretise(case, case.fractures, Timer()).cm
+
+
+@pytest.fixture
+def uncached(monkeypatch):
+    """dolfinx's own compilation at every call, as before the cache."""
+    monkeypatch.setattr(compiled, "form", lambda f, recipe: fem.form(f))
+    monkeypatch.setattr(compiled, "expression", lambda e, X, recipe: fem.Expression(e, X))
+    monkeypatch.setattr(compiled, "function_space", lambda mesh, element: fem.FunctionSpace(mesh, element))
+
+
+@pytest.fixture
+def checked(monkeypatch):
+    monkeypatch.setattr(compiled, "CHECK", True)
+
+
+def everything(case, cm):
+    """Every number the fem layer computes on `cm`, through whichever
+    compile path is in place."""
+    m = case.material
+    fm = to_dolfinx(cm)
+    p = ElasticProblem(fm, m.E, m.nu, m.plane, case_loads(case, cm, case.fractures))
+    p.solve(1.0)
+    polylines = [np.asarray(f.points, float) for f in case.fractures]
+    tips = tip_sifs(p, cm, polylines, case.domain, m.E, m.nu, m.plane, case.stress.tensor())
+    out = {"u": p.u.x.array.copy(), "b": p.b.getArray().copy(), "energy": np.array([p.strain_energy()]),
+           "KM": np.array([[t.KI_M, t.KII_M] for t in tips], float),
+           "cell_stress": cell_stress(p)[2], **local_nodal_fields(p)}
+    p.destroy()
+    return out
+
+
+def _cached_run(case, cm):
+    everything(case, cm)             # compiles, if nothing did yet
+    before = compiled.count()
+    out = everything(case, cm)       # a new DOLFINx mesh: every form from the cache
+    assert compiled.count() == before
+    return out
+
+
+def test_same_numbers_to_the_last_bit(crack_mesh, request):
+    case, cm = crack_mesh
+    cached = _cached_run(case, cm)
+    request.getfixturevalue("uncached")
+    reference = everything(case, cm)
+    assert set(cached) == set(reference)
+    for name in reference:
+        # equal_nan: the nodal stress is singular (NaN) at the tip nodes, both ways
+        assert np.array_equal(cached[name], reference[name], equal_nan=True), name
+    assert np.all(np.isfinite(reference["KM"])) and np.abs(reference["KM"]).max() > 0
+
+
+def test_checked_cache_on_two_materials(crack_mesh, checked):
+    """Two materials in one process: the interaction integral has kappa
+    (a number in its expression) in its recipe, so each gets its own
+    compiled form; CHECK compares every cached form's UFL signature with
+    its compiled one's."""
+    case, cm = crack_mesh
+    other = replace(case, material=replace(case.material, nu=0.3, plane="stress"))
+    a, b = _cached_run(case, cm), _cached_run(other, cm)
+    assert not np.array_equal(a["KM"], b["KM"])
+
+
+def test_quadrature_degree_and_boundary_tags_get_their_own_form(crack_mesh, checked):
+    case, cm = crack_mesh
+    fm = to_dolfinx(cm)
+    msh = fm.mesh
+    x = ufl.SpatialCoordinate(msh)
+    ds = ufl.Measure("ds", domain=msh, subdomain_data=fm.facet_tags)
+    tags = sorted({int(t) for t in fm.facet_tags.values})
+    assert len(tags) >= 2
+    integrand = ufl.sin(x[0]) * ufl.exp(x[1] / 20.0)
+
+    def forms():
+        out = []
+        for degree in (1, 2, 6):
+            out.append(ufl.inner(integrand, 1.0) * ufl.dx(domain=msh, metadata={"quadrature_degree": degree}))
+        out.append(integrand * ds(tags[0]))
+        out.append(integrand * ds(tuple(tags)))
+        return out
+
+    before = compiled.count()
+    cached = [fem.assemble_scalar(compiled.form(f, ("test.unit",))) for f in forms()]
+    assert compiled.count() == before + 5
+    again = [fem.assemble_scalar(compiled.form(f, ("test.unit",))) for f in forms()]
+    assert compiled.count() == before + 5
+    reference = [fem.assemble_scalar(fem.form(f)) for f in forms()]
+    assert cached == reference == again
+    # the forms are different, and so are their values
+    assert len(set(reference)) == 5
+
+
+def test_check_catches_a_recipe_two_expressions_share(crack_mesh, checked):
+    case, cm = crack_mesh
+    msh = to_dolfinx(cm).mesh
+    x = ufl.SpatialCoordinate(msh)
+    compiled.form(ufl.sin(x[0]) * ufl.dx(domain=msh), ("test.shared",))
+    with pytest.raises(compiled.SignatureMismatch):
+        compiled.form(ufl.cos(x[0]) * ufl.dx(domain=msh), ("test.shared",))
+
+
+def test_quadrature_degree_of_the_interaction_integral(crack_mesh, checked, monkeypatch):
+    """Another quadrature degree of the M-integral: its own compiled form,
+    the values dolfinx.fem.form gives at that degree."""
+    case, cm = crack_mesh
+    m = case.material
+    fm = to_dolfinx(cm)
+    p = ElasticProblem(fm, m.E, m.nu, m.plane, case_loads(case, cm, case.fractures))
+    p.solve(1.0)
+    tip = cm.tips[0]
+
+    def sifs(degree):
+        M = InteractionIntegral(p, m.E, m.nu, m.plane, case.stress.tensor(), quadrature_degree=degree)
+        return M.sifs(tip.x, tip.ex, tip.ey, 1.000001 * tip.h, 3 * tip.h)
+
+    sifs(6)
+    before = compiled.count()
+    cached = {6: sifs(6), 3: sifs(3)}
+    assert compiled.count() == before + 1
+    monkeypatch.setattr(compiled, "form", lambda f, recipe: fem.form(f))
+    reference = {degree: sifs(degree) for degree in (6, 3)}
+    assert cached == reference
+    assert cached[3] != cached[6]
+    p.destroy()
