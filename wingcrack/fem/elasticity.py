@@ -28,6 +28,14 @@ def strain(u):
 
 #: MUMPS CNTL(3): pivots below this times ||K|| count as null (see factorize)
 NULL_PIVOT = 1e-12
+#: below this many DOFs the factorisation orders K by approximate minimum
+#: fill (MUMPS ICNTL(7) = 2); above it MUMPS's own choice (PORD in this
+#: build, which has neither METIS nor SCOTCH), whose nested dissection fills
+#: less but whose analysis costs as much as the factorisation itself on
+#: the smaller meshes. With a Schur complement MUMPS orders by AMD whatever
+#: ICNTL(7) asks.
+AMF_BELOW = 200_000
+_OPTIONS_PREFIX = "wingcrack_elastic_"
 
 
 class ElasticProblem:
@@ -161,7 +169,8 @@ class ElasticProblem:
 
         self.schur_dofs = None
         self._schur = None
-        if schur_dofs is not None and len(schur_dofs) and schur.available(self.fm.mesh.comm):
+        with_schur = schur_dofs is not None and len(schur_dofs) > 0 and schur.available(self.fm.mesh.comm)
+        if with_schur:
             pc = self.solver.getPC()
             pc.setFactorSetUpSolverType()
             schur.set_schur_dofs(pc.getFactorMatrix(), schur_dofs)
@@ -176,6 +185,16 @@ class ElasticProblem:
         F = pc.getFactorMatrix()
         F.setMumpsIcntl(24, 1)
         F.setMumpsCntl(3, NULL_PIVOT)
+        # PETSc 3.18 sets ICNTL(7) from the options database at the analysis,
+        # over a value MatMumpsSetIcntl gave before (MUMPS then takes its own
+        # choice): so it goes in the database, under the factor's own prefix,
+        # for this factorisation only
+        F.setOptionsPrefix(_OPTIONS_PREFIX)
+        options = PETSc.Options()
+        ordering = None
+        if not with_schur and self.fm.num_dofs < AMF_BELOW:
+            ordering = _OPTIONS_PREFIX + "mat_mumps_icntl_7"
+            options[ordering] = 2
         try:
             self.solver.setUp()
             # INFOG(28): null pivots; INFOG(12): negative pivots, which an SPD K never has
@@ -185,6 +204,9 @@ class ElasticProblem:
             raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "
                                    "singular or not positive definite; a fracture may cut off a piece of the body "
                                    "that no boundary condition holds") from None
+        finally:
+            if ordering is not None:
+                options.delValue(ordering)
         if null_pivots > 0:
             from ..errors import ComputationError
             raise ComputationError(f"the stiffness matrix is singular ({null_pivots} null or negative pivots): a fracture cuts off "
