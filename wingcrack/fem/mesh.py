@@ -67,6 +67,11 @@ def _coordinate_domain() -> ufl.Mesh:
     return ufl.Mesh(ufl.VectorElement(ufl.FiniteElement("Lagrange", ufl.triangle, 2, variant="equispaced")))
 
 
+def _one_process(comm, nparts, tdim, cells, ghost_mode):
+    """The cell partition on one process: every cell stays on it."""
+    return _cpp.graph.AdjacencyList_int32(np.zeros(cells.num_nodes, dtype=np.int32))
+
+
 def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
     """Distribute the CrackMesh `cm` (only read on `root`) and build P2 space."""
     domain = _coordinate_domain()
@@ -80,7 +85,14 @@ def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
         x = np.empty((0, 2), dtype=np.float64)
         facets = np.empty((0, 3), dtype=np.int64)
         values = np.empty((0,), dtype=np.int32)
-    msh = dmesh.create_mesh(comm, cells, x, domain)
+    if comm.size == 1:
+        # what dmesh.create_mesh does, without its first try (a TypeError on
+        # the array) and without partitioning a graph into one part
+        cmap = _cpp.fem.CoordinateElement(_cpp.mesh.CellType.triangle, 2)
+        msh = dmesh.Mesh(_cpp.mesh.create_mesh(comm, _cpp.graph.AdjacencyList_int64(cells), cmap, x,
+                                               dmesh.GhostMode.shared_facet, _one_process), domain)
+    else:
+        msh = dmesh.create_mesh(comm, cells, x, domain)
     tdim = msh.topology.dim
     local_entities, local_values = _cpp.io.distribute_entity_data(msh._mesh, tdim - 1, facets, values)
     msh.topology.create_connectivity(tdim - 1, tdim)
