@@ -157,3 +157,31 @@ def test_quadrature_degree_of_the_interaction_integral(crack_mesh, checked, monk
     assert cached == reference
     assert cached[3] != cached[6]
     p.destroy()
+
+
+def test_load_form_on_other_boundary_tags(crack_mesh, checked, monkeypatch):
+    """The elastic load form with the in-situ traction on fewer outer tags,
+    and with a traction on one tag: each its own compiled form, each the
+    right-hand side dolfinx.fem.form gives."""
+    case, cm = crack_mesh
+    m = case.material
+    loads = case_loads(case, cm, case.fractures)
+    assert len(loads.outer_tags) >= 2
+    variants = [loads, replace(loads, outer_tags=tuple(loads.outer_tags[:1])),
+                replace(loads, tractions=[(int(loads.outer_tags[0]), 1.0e5, -2.0e5)])]
+
+    def rhs(variant):
+        p = ElasticProblem(to_dolfinx(cm), m.E, m.nu, m.plane, variant)
+        b = p.assemble_rhs(1.0).getArray().copy()
+        p.destroy()
+        return b
+
+    rhs(variants[0])
+    before = compiled.count()
+    cached = [rhs(v) for v in variants]
+    assert compiled.count() == before + 2
+    monkeypatch.setattr(compiled, "form", lambda f, recipe: fem.form(f))
+    reference = [rhs(v) for v in variants]
+    for c, r in zip(cached, reference):
+        assert np.array_equal(c, r)
+    assert not np.array_equal(reference[0], reference[1]) and not np.array_equal(reference[0], reference[2])
