@@ -146,14 +146,13 @@ def test_quadrature_degree_of_the_interaction_integral(crack_mesh, checked, monk
 
     def sifs(degree):
         M = InteractionIntegral(p, m.E, m.nu, m.plane, case.stress.tensor(), quadrature_degree=degree)
-        return M.sifs(tip.x, tip.ex, tip.ey, 1.000001 * tip.h, 3 * tip.h)
+        return M.sifs(tip.x, tip.ex, tip.ey, 1.000001 * tip.h, 3 * tip.h), M._form_near(tip.x, 3 * tip.h).ufcx_form
 
-    sifs(6)
-    before = compiled.count()
-    cached = {6: sifs(6), 3: sifs(3)}
-    assert compiled.count() == before + 1
+    (k6, u6), (k3, u3) = sifs(6), sifs(3)
+    assert u6 is not u3 and sifs(6)[1] is u6
+    cached = {6: k6, 3: k3}
     monkeypatch.setattr(compiled, "form", lambda f, recipe: fem.form(f))
-    reference = {degree: sifs(degree) for degree in (6, 3)}
+    reference = {degree: sifs(degree)[0] for degree in (6, 3)}
     assert cached == reference
     assert cached[3] != cached[6]
     p.destroy()
@@ -173,15 +172,15 @@ def test_load_form_on_other_boundary_tags(crack_mesh, checked, monkeypatch):
     def rhs(variant):
         p = ElasticProblem(to_dolfinx(cm), m.E, m.nu, m.plane, variant)
         b = p.assemble_rhs(1.0).getArray().copy()
+        ufcx = p.L.ufcx_form
         p.destroy()
-        return b
+        return b, ufcx
 
-    rhs(variants[0])
-    before = compiled.count()
-    cached = [rhs(v) for v in variants]
-    assert compiled.count() == before + 2
+    cached, ufcx = zip(*[rhs(v) for v in variants])
+    assert len({id(u) for u in ufcx}) == 3                  # three compiled forms
+    assert all(rhs(v)[1] is u for v, u in zip(variants, ufcx))   # found again on a new mesh
     monkeypatch.setattr(compiled, "form", lambda f, recipe: fem.form(f))
-    reference = [rhs(v) for v in variants]
+    reference = [rhs(v)[0] for v in variants]
     for c, r in zip(cached, reference):
         assert np.array_equal(c, r)
     assert not np.array_equal(reference[0], reference[1]) and not np.array_equal(reference[0], reference[2])
