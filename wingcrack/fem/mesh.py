@@ -72,6 +72,40 @@ def _one_process(comm, nparts, tdim, cells, ghost_mode):
     return _cpp.graph.AdjacencyList_int32(np.zeros(cells.num_nodes, dtype=np.int32))
 
 
+def _facet_tags_one_process(msh, facets, values):
+    """The facet tags of the boundary edges `facets` (mesher node numbers,
+    vertices first) on one process, by a search on the sorted facet vertex
+    pairs: what distribute_entity_data and meshtags_from_entities give
+    there (the same sorted facets and values), without their
+    vertex-to-entity maps. None where an edge is not a facet or is tagged
+    twice (then the caller takes dolfinx's way)."""
+    if len(facets) == 0:
+        return None
+    c2v = msh.topology.connectivity(2, 0).array.reshape(-1, 3)
+    # a cell's first three geometry nodes are its vertices, in topology order
+    node_vertex = np.full(msh.geometry.x.shape[0], -1, dtype=np.int64)
+    node_vertex[msh.geometry.dofmap.array.reshape(-1, 6)[:, :3]] = c2v
+    original = np.asarray(msh.geometry.input_global_indices, dtype=np.int64)
+    vertex = np.full(max(int(original.max()), int(facets[:, :2].max())) + 1, -1, dtype=np.int64)
+    vertex[original] = node_vertex
+    ends = vertex[facets[:, :2]]
+    f2v = msh.topology.connectivity(1, 0).array.reshape(-1, 2).astype(np.int64)
+    n = int(c2v.max()) + 1
+
+    def key(pairs):
+        return pairs.min(axis=1) * n + pairs.max(axis=1)
+
+    keys = key(f2v)
+    order = np.argsort(keys)
+    wanted = key(ends)
+    pos = np.minimum(np.searchsorted(keys, wanted, sorter=order), len(order) - 1)
+    index = order[pos]
+    if np.any(ends < 0) or np.any(keys[index] != wanted) or len(np.unique(index)) != len(index):
+        return None
+    sort = np.argsort(index)
+    return dmesh.meshtags(msh, 1, index[sort].astype(np.int32), np.asarray(values, dtype=np.int32)[sort])
+
+
 def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
     """Distribute the CrackMesh `cm` (only read on `root`) and build P2 space."""
     domain = _coordinate_domain()
@@ -94,11 +128,13 @@ def to_dolfinx(cm, comm: MPI.Comm = MPI.COMM_WORLD, root: int = 0) -> FEMesh:
     else:
         msh = dmesh.create_mesh(comm, cells, x, domain)
     tdim = msh.topology.dim
-    local_entities, local_values = _cpp.io.distribute_entity_data(msh._mesh, tdim - 1, facets, values)
     msh.topology.create_connectivity(tdim - 1, tdim)
     msh.topology.create_connectivity(tdim - 1, 0)
-    adj = _cpp.graph.AdjacencyList_int32(local_entities)
-    ft = dmesh.meshtags_from_entities(msh, tdim - 1, adj, local_values.astype(np.int32))
+    ft = _facet_tags_one_process(msh, facets, values) if comm.size == 1 else None
+    if ft is None:
+        local_entities, local_values = _cpp.io.distribute_entity_data(msh._mesh, tdim - 1, facets, values)
+        adj = _cpp.graph.AdjacencyList_int32(local_entities)
+        ft = dmesh.meshtags_from_entities(msh, tdim - 1, adj, local_values.astype(np.int32))
 
     V = compiled.function_space(msh, ufl.VectorElement("Lagrange", msh.ufl_cell(), 2))
     geo = msh.geometry.dofmap.array
