@@ -112,6 +112,7 @@ def _sif(case, out, force) -> SifResult:
     from .propagation.fracture_set import FractureSet
     from .propagation import interrupt
 
+    step.start_meshing()   # its start-up (gmsh's import) overlaps ours
     if out is not None:
         out = _prepare_out(out, force)
     writes = out is not None and MPI.COMM_WORLD.rank == 0
@@ -202,6 +203,7 @@ def _run(case, out, progress, plots, force, resume):
     from .errors import ComputationError
     from .propagation import loop
 
+    step.start_meshing()   # its start-up (gmsh's import) overlaps ours
     if resume:
         from .errors import FolderError
         from .io.outdir import check_writable

@@ -6,7 +6,9 @@
     -> solve + SIFs (wingcrack.step)
     -> growth (growth: MTS direction, Paris-type lengths, the L_min rule,
        joining other fractures and the boundary)
-    -> the next mesh's sizes (the error estimate) -> next step.
+    -> the next mesh's sizes (the error estimate)
+    -> the next step's mesh begun in the meshing worker, while this step's
+       files, summary.json and the checkpoint are written -> next step.
 
 summary.json is rewritten after every step; a failure keeps every finished
 step and says "failed: <reason>". A step in which no tip moves ends the run
@@ -109,8 +111,30 @@ def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TI
     has them. Ctrl-C (SIGINT) stops at once with status "stopped:
     interrupted", every finished step kept, and raises KeyboardInterrupt
     again; SIGTERM the same with "stopped: terminated"."""
-    with interrupt.watching(), _collector_skips_modules():
-        return _run(case, out, progress, mesh_timeout, resume, finishing)
+    step.start_meshing(mesh_timeout)   # the worker's start-up overlaps the imports of preload()
+    with interrupt.watching(), _collector_skips_modules(), _NextMesh() as next_mesh:
+        return _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh)
+
+
+class _NextMesh:
+    """The next step's mesh (step.MeshRequest), begun during this step; a
+    run that ends in any way before collecting it abandons it (the meshing
+    worker stops: no answer is left unread)."""
+
+    def __init__(self):
+        self.request = None
+
+    def take(self):
+        request, self.request = self.request, None
+        return request
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.request is not None:
+            self.take().cancel()
+        return False
 
 
 @contextlib.contextmanager
@@ -131,7 +155,7 @@ def _collector_skips_modules():
         gc.unfreeze()
 
 
-def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
+def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh) -> RunResult:
     from mpi4py import MPI
 
     from ..io.summary import write_summary
@@ -178,7 +202,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 break
             _release(disc)   # the previous step's factors and forms
             disc = shown = None
-            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history)
+            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history,
+                                   mesh=next_mesh.take())
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
             if not grow:
@@ -221,6 +246,10 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             if case.mesh.adaptive:
                 sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
                 timer.lap("estimate")
+            if k + 1 < prop.steps and fset.active_tips():
+                # step k+1's mesh is made while step k is written; it fails (if it does) as step k+1
+                next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout)
+                timer.lap("mesh")
             record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
