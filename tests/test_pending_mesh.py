@@ -249,3 +249,42 @@ def alive(pid) -> bool:
             return f.read().rsplit(")", 1)[1].split()[0] != "Z"
     except FileNotFoundError:
         return False
+
+
+# -- summary.json and the checkpoint, rewritten after every step at the cost of that step --------------
+
+
+def test_the_summary_after_every_step_is_what_the_whole_encoding_writes(tmp_path):
+    """Reference: json.dumps(indent=1) of the whole summary, the way
+    write_summary encodes it, and of the checkpoint's meta as
+    checkpoint.save encodes it from the records' dicts."""
+    import json
+
+    from wingcrack.propagation import checkpoint, loop
+    from wingcrack.results import StepRecord
+
+    out = tmp_path / "out"
+    out.mkdir()
+    texts = []
+
+    def progress(k, record):
+        texts.append((out / "summary.json").read_text())
+
+    case = plate_case(3)
+    result = loop.run(case, out, progress=progress)
+    assert len(result.steps) == 3 and len(texts) == 3
+    for k, text in enumerate(texts):   # valid JSON after every step, in write_summary's layout
+        parsed = json.loads(text)
+        assert [s["step"] for s in parsed["steps"]] == list(range(k + 1))
+        assert text == json.dumps(parsed, indent=1)
+    records = [StepRecord.from_dict(s) for s in result.steps]
+    fset = result.fractures
+    lam = records[-1].load_factor
+    checkpoint.save(tmp_path, case, 2, fset, lam, [r.to_dict() for r in records], None)
+    writer = checkpoint.Writer(tmp_path / "w", case)
+    (tmp_path / "w").mkdir()
+    writer.save(1, fset, records[1].load_factor, records[:2], None)   # the texts of steps 0 and 1 made here, reused below
+    writer.save(2, fset, lam, records, None)
+    metas = [str(np.load(p / checkpoint.NAME)["meta"]) for p in (tmp_path, tmp_path / "w")]
+    assert metas[0] == metas[1]
+    assert checkpoint.load(tmp_path / "w", case)["steps"] == result.steps

@@ -158,7 +158,7 @@ def _collector_skips_modules():
 def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh) -> RunResult:
     from mpi4py import MPI
 
-    from ..io.summary import write_summary
+    from ..io.summary import SummaryWriter
 
     comm = MPI.COMM_WORLD
     out = None if out is None else Path(out)   # made ready by api.run
@@ -186,9 +186,13 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh) -> Run
     def summary_now(st) -> dict:
         return step.summary(case, st, records, done.summary(), warnings).to_dict()
 
+    writes = out is not None and comm.rank == 0
+    summary_file = SummaryWriter(out / "summary.json") if writes else None
+    checkpoints = checkpoint.Writer(out, case) if writes else None
+
     def write(st):
-        if out is not None and comm.rank == 0:
-            write_summary(out / "summary.json", summary_now(st))
+        if writes:
+            summary_file.write(step.summary(case, st, records, done.summary(), warnings))
 
     if not records and first >= prop.steps:
         status = NO_STEPS
@@ -260,8 +264,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh) -> Run
                 done = fset.copy()
                 history = converged
                 write("running")
-                if out is not None and comm.rank == 0:
-                    checkpoint.save(out, case, k, fset, lam, [r.to_dict() for r in records], sizes, history)
+                if writes:
+                    checkpoints.save(k, fset, lam, records, sizes, history)
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
             write(status)
