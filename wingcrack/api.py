@@ -100,6 +100,7 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     _require_case(case)
     if out is not None:
         _folder_name(out)
+    step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     with _folder_lock(out, create=True):
         return _sif(case, out, force)
 
@@ -112,7 +113,6 @@ def _sif(case, out, force) -> SifResult:
     from .propagation.fracture_set import FractureSet
     from .propagation import interrupt
 
-    step.start_meshing()   # its start-up (gmsh's import) overlaps ours
     if out is not None:
         out = _prepare_out(out, force)
     writes = out is not None and MPI.COMM_WORLD.rank == 0
@@ -176,6 +176,7 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
                         f"{type(progress).__name__}")
     if out is not None:
         _folder_name(out)
+    step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     with _folder_lock(out, create=not resume):
         return _run(case, out, progress, plots, force, resume)
 
@@ -203,7 +204,6 @@ def _run(case, out, progress, plots, force, resume):
     from .errors import ComputationError
     from .propagation import loop
 
-    step.start_meshing()   # its start-up (gmsh's import) overlaps ours
     if resume:
         from .errors import FolderError
         from .io.outdir import check_writable
