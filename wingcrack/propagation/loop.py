@@ -112,8 +112,8 @@ def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TI
     interrupted", every finished step kept, and raises KeyboardInterrupt
     again; SIGTERM the same with "stopped: terminated"."""
     step.start_meshing(mesh_timeout)   # the worker's start-up overlaps the imports of preload()
-    with interrupt.watching(), _collector_skips_modules(), _NextMesh() as next_mesh:
-        return _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh)
+    with interrupt.watching(), _NextMesh() as next_mesh, contextlib.ExitStack() as frozen:
+        return _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen)
 
 
 class _NextMesh:
@@ -155,7 +155,7 @@ def _collector_skips_modules():
         gc.unfreeze()
 
 
-def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh) -> RunResult:
+def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen) -> RunResult:
     from mpi4py import MPI
 
     from ..io.summary import SummaryWriter
@@ -179,6 +179,9 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh) -> Run
         fset, lam, sizes, first = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
         history = ck["history"]
         records = [StepRecord.from_dict(s) for s in ck["steps"]]
+    if first < prop.steps and fset.active_tips():   # its gmsh overlaps the imports of preload()
+        next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout)
+    frozen.enter_context(_collector_skips_modules())
 
     done = fset.copy()   # the fractures after the last finished step
     warnings = []        # about the whole run (from `finishing`)
