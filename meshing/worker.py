@@ -147,21 +147,22 @@ def send(fn, args: tuple, timeout: float) -> Call:
         raise NotPicklable(str(error)) from None
     if _outstanding is not None:
         _outstanding.cancel()
-    start()
-    w = _worker
-    sent = False
-    try:
-        w.send(payload)
-        sent = True
-    except BrokenPipeError:
-        pass
-    finally:
-        if not sent:   # a worker dead before the request (the next call starts a new one), or Ctrl-C half-way
-            _kill(w)
-    if not sent:
-        raise RuntimeError("the meshing process died before it took the request")
-    _outstanding = Call(w, timeout)
-    return _outstanding
+    for _ in range(2):   # a worker that died after its last answer (not yet seen dead): once more, a new one
+        start()
+        w = _worker
+        sent = False
+        try:
+            w.send(payload)
+            sent = True
+        except BrokenPipeError:
+            pass
+        finally:
+            if not sent:   # a dead worker, or Ctrl-C half-way through the request
+                _kill(w)
+        if sent:
+            _outstanding = Call(w, timeout)
+            return _outstanding
+    raise RuntimeError("the meshing process died before it took the request")
 
 
 def call(fn, args: tuple, timeout: float):

@@ -288,3 +288,17 @@ def test_the_summary_after_every_step_is_what_the_whole_encoding_writes(tmp_path
     metas = [str(np.load(p / checkpoint.NAME)["meta"]) for p in (tmp_path, tmp_path / "w")]
     assert metas[0] == metas[1]
     assert checkpoint.load(tmp_path / "w", case)["steps"] == result.steps
+
+
+def test_a_worker_that_died_between_calls_is_replaced():
+    assert worker.call(sum, ([1],), 30.0) == 1
+    dead = worker._worker
+    dead.proc.kill()
+    dead.proc.stdout.close()   # its death not yet seen: the request meets a closed pipe or a dead process
+    for _ in range(50):
+        if dead.proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    dead.proc.poll = lambda: None   # and the check before the send still takes it for alive
+    assert worker.call(sum, ([2, 3],), 30.0) == 5
+    assert worker._worker is not dead
