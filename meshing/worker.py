@@ -12,6 +12,7 @@ killed, and the next call starts a new one.
 from __future__ import annotations
 
 import atexit
+import contextlib
 import os
 import pickle
 import select
@@ -33,6 +34,24 @@ class NotPicklable(TypeError):
     lambda): refused before anything runs."""
 
 
+@contextlib.contextmanager
+def _no_sigpipe():
+    """Within, a write to a dead worker's pipe fails with BrokenPipeError
+    only: PETSc (loaded by the caller) catches SIGPIPE and aborts the whole
+    process, Python's own SIG_IGN notwithstanding. The signal is blocked in
+    this thread, and one it raised is taken off before it is unblocked."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGPIPE})
+    try:
+        yield
+    finally:
+        if signal.SIGPIPE in signal.sigpending():
+            signal.sigtimedwait({signal.SIGPIPE}, 0)
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 class _Worker:
     def __init__(self):
         env = dict(os.environ)
@@ -48,16 +67,18 @@ class _Worker:
             self.proc.kill()
         except ProcessLookupError:
             pass
-        for stream in (self.proc.stdin, self.proc.stdout):
-            try:
-                stream.close()
-            except OSError:
-                pass
+        with _no_sigpipe():   # closing stdin flushes what a failed send left in its buffer
+            for stream in (self.proc.stdin, self.proc.stdout):
+                try:
+                    stream.close()
+                except OSError:
+                    pass
         self.proc.wait()
 
     def send(self, payload: bytes) -> None:
-        self.proc.stdin.write(_HEADER.pack(len(payload)) + payload)
-        self.proc.stdin.flush()
+        with _no_sigpipe():
+            self.proc.stdin.write(_HEADER.pack(len(payload)) + payload)
+            self.proc.stdin.flush()
 
     def receive(self, deadline: float, timeout: float):
         fd = self.proc.stdout.fileno()

@@ -291,6 +291,10 @@ def test_the_summary_after_every_step_is_what_the_whole_encoding_writes(tmp_path
 
 
 def test_a_worker_that_died_between_calls_is_replaced():
+    """Also with PETSc loaded, which aborts the process on SIGPIPE (a write
+    to the dead worker's pipe raises it)."""
+    from petsc4py import PETSc  # noqa: F401 - its signal handlers installed
+
     assert worker.call(sum, ([1],), 30.0) == 1
     dead = worker._worker
     dead.proc.kill()
