@@ -1,19 +1,42 @@
 """Conforming second-order crack meshes with gmsh (no DOLFINx here).
 
 `Domain` (meshing/domain.py) is pure numpy; `crack_mesh` (meshing/crack_mesh.py)
-builds a CrackMesh with gmsh and the compiled face kernels (wingcrack_kernels).
+builds a CrackMesh with gmsh and the compiled face kernels (wingcrack_kernels);
+`start_crack_mesh` begins the same in the meshing worker and returns a
+PendingMesh whose result() is the CrackMesh.
 """
 
-from meshing.crack_mesh import CrackMesh, TipNodes, crack_mesh
+from meshing.crack_mesh import CrackMesh, PendingMesh, TipNodes, crack_mesh, start_crack_mesh
 from meshing.domain import Domain
 
-__all__ = ["Domain", "crack_mesh", "CrackMesh", "TipNodes", "load_gmsh"]
+__all__ = ["Domain", "crack_mesh", "start_crack_mesh", "PendingMesh", "CrackMesh", "TipNodes", "load_gmsh",
+           "start_worker"]
 
 
 def load_gmsh() -> None:
-    """Import gmsh into this process now (gmsh is imported in meshing/ only).
-    Its import resets SIGINT to the default action (the process dies on
-    Ctrl-C), so whoever installs a SIGINT handler calls this first: a later
-    `import gmsh` in this process (an in-process mesh) is then a no-op that
-    cannot undo the handler."""
+    """Import gmsh into this process now (gmsh is imported in meshing/ only),
+    keeping the SIGINT handler: gmsh's import sets SIGINT to the default
+    action (the process would die on Ctrl-C instead of raising
+    KeyboardInterrupt, and a run's own handler would be gone). Everything
+    that meshes in-process calls this before gmsh is first used; later
+    imports are no-ops."""
+    import sys
+
+    if "gmsh" in sys.modules:
+        return
+    import signal
+    import threading
+
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.getsignal(signal.SIGINT) if main else None
     import gmsh  # noqa: F401
+    if main and old is not None:   # None: a handler set outside Python, which gmsh's import replaced
+        signal.signal(signal.SIGINT, old)
+
+
+def start_worker() -> None:
+    """Start the meshing worker now, without waiting (it imports gmsh while
+    the caller goes on); meshing with a time limit uses it."""
+    from meshing import worker
+
+    worker.start()

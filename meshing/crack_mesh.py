@@ -36,7 +36,7 @@ import numpy as np
 from meshing import admissibility, point_symmetry
 from meshing.domain import Domain
 from meshing.records import RawMesh, SplitMesh
-from meshing.timeout import MeshTimeout, call_with_timeout
+from meshing.timeout import MeshTimeout, start_with_timeout
 
 # gmsh and wingcrack_kernels are imported inside the functions that use them:
 # `import meshing` (for Domain, in the case checker) must stay light.
@@ -113,6 +113,7 @@ def crack_mesh(
     A fracture end that lies on another fracture (or on a non-adjacent part of
     its own) is a T-junction: no rosette there, the other fracture is split at
     the point, and the junction node gets three copies.
+    crack_mesh(...) is start_crack_mesh(...).result(): the same mesh.
     Each call opens and closes its own gmsh session (gmsh.initialize /
     finalize), so do not call it while holding a gmsh session of your own.
     Raises ValueError for geometry that cannot be meshed as asked (a rule of
@@ -121,8 +122,25 @@ def crack_mesh(
     comes out inverted. gmsh sees the geometry in an exact frame of its own
     (_Frame): any domain size and offset the rules allow mesh alike.
     """
-    import wingcrack_kernels as _kernels
+    return start_crack_mesh(domain, fractures, points, size, tip_size, sectors, sizes, timeout).result()
 
+
+def start_crack_mesh(
+    domain: Domain,
+    fractures: Sequence[np.ndarray],
+    points: Sequence[np.ndarray],
+    size: float,
+    tip_size: float,
+    sectors: int = 16,
+    sizes: tuple[np.ndarray, np.ndarray] | None = None,
+    timeout: float | None = None,
+) -> PendingMesh:
+    """crack_mesh begun: the arguments are checked and the geometry planned
+    here (ValueError at once, as crack_mesh raises it), gmsh's work is sent
+    to the meshing worker (the time limit runs from now), and the caller may
+    go on; PendingMesh.result() waits for it and returns the CrackMesh (and
+    raises what crack_mesh raises after planning). With timeout None gmsh
+    runs in-process, at result()."""
     t_start = time.perf_counter()
     # 16 or more is what displacement correlation needs; fewer (down to 8)
     # are allowed for convergence studies of the rosette itself.
@@ -143,78 +161,102 @@ def crack_mesh(
     if half is not None:
         plan = _with_divider(domain, plan, half)
 
-    t0 = time.perf_counter()
-
     mirror_sizes = False
     if half is not None and sizes is not None:
         halved = point_symmetry.sizes_for_half(*sizes, half, ON_BOUNDARY * domain.length_scale())
         mirror_sizes = halved is None  # not symmetric: bound by the field and its image
         sizes = sizes if halved is None else halved
+    return PendingMesh(domain, plan, frame, half, (size, tip_size, sectors, sizes, mirror_sizes), timeout,
+                       time.perf_counter() - t_start)
 
-    def attempt(coarsen: float, algorithm: int):
+
+class PendingMesh:
+    """A crack mesh begun by start_crack_mesh: result() collects it (once),
+    cancel() abandons it (the meshing worker is killed if it is still at it)."""
+
+    def __init__(self, domain, plan, frame, half, job, timeout, seconds_planning):
+        self._domain, self._plan, self._frame, self._half, self._job = domain, plan, frame, half, job
+        self._timeout, self._seconds = timeout, seconds_planning
+        self._first = self.attempt(1.0, 6)
+
+    def attempt(self, coarsen: float, algorithm: int):
+        size, tip_size, sectors, sizes, mirror_sizes = self._job
         scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
-        args = (domain, plan, size, tip_size, sectors, scaled, half, mirror_sizes, algorithm)
-        return call_with_timeout(_gmsh_session, args, timeout)
+        args = (self._domain, self._plan, size, tip_size, sectors, scaled, self._half, mirror_sizes, algorithm)
+        return start_with_timeout(_gmsh_session, args, self._timeout)
 
-    retried = False
-    try:
-        raw = attempt(1.0, 6)
-    except MeshTimeout:
-        retried = True  # once: coarser sizes, Delaunay instead of Frontal-Delaunay
-        raw = attempt(1.5, 5)
-    t_gmsh = time.perf_counter() - t0
-    if half is not None:
-        raw = _glue(domain, plan, half, raw)
+    def cancel(self) -> None:
+        self._first.cancel()
 
-    t0 = time.perf_counter()
-    # the binding answers a dict: its one conversion into the record
-    split = SplitMesh(**_kernels.split_faces(raw.x, raw.cells, raw.crack_edges, raw.crack_fracture,
-                                             raw.boundary_edges))
-    tips = _tip_nodes(plan, raw, split)
-    x = _kernels.quarter_points(split.x, split.cells, np.array([t.node for t in tips], dtype=np.int64))
-    jac = _kernels.min_jacobian(x, split.cells)
-    if jac.size and jac.min() <= 0.0:
-        bad = int(np.argmin(jac))
-        raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
-    t_split = time.perf_counter() - t0
-    x, jac = frame.back(x), jac * frame.scale**2
-    for t in tips:
-        t.x, t.h = frame.back(t.x), t.h * frame.scale
+    def result(self) -> CrackMesh:
+        import wingcrack_kernels as _kernels
 
-    names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
-    mesh = CrackMesh(
-        x=x,
-        cells=split.cells,
-        boundary_edges=split.boundary_edges,
-        boundary_tags=np.array([names[n] for n in raw.boundary_name], dtype=np.int64),
-        boundary_names=names,
-        pairs=split.pairs,
-        pair_normal=split.pair_normal,
-        pair_fracture=split.pair_fracture,
-        crack_edges=split.crack_edges,
-        crack_fracture=raw.crack_fracture,
-        tips=tips,
-        point_nodes=raw.point_nodes,
-        crack_edges_minus=split.crack_edges_minus,
-    )
-    mesh.stats = {
-        "nodes": int(len(x)),
-        "vertices": int(len(np.unique(mesh.cells[:, :3]))),
-        "cells": int(len(mesh.cells)),
-        "boundary_edges": int(len(mesh.boundary_edges)),
-        "crack_edges": int(len(mesh.crack_edges)),
-        "pairs": int(len(mesh.pairs)),
-        "tips": len(tips),
-        "min_jacobian": float(jac.min()) if jac.size else 0.0,
-        "min_quality": float(triangle_quality(x, mesh.cells).min()) if len(mesh.cells) else 0.0,
-        "seconds_gmsh": t_gmsh,
-        "gmsh_retried": retried,
-        "symmetric": half is not None,
-        "divider_angle": None if half is None else math.degrees(half.angle),
-        "seconds_split": t_split,
-        "seconds": time.perf_counter() - t_start,
-    }
-    return mesh
+        domain, plan, frame, half = self._domain, self._plan, self._frame, self._half
+        retried = False
+        try:
+            raw = self._first.result()
+            t_gmsh = self._first.seconds
+        except MeshTimeout:
+            retried = True  # once: coarser sizes, Delaunay instead of Frontal-Delaunay
+            t_first = self._timeout
+            second = self.attempt(1.5, 5)
+            raw = second.result()
+            t_gmsh = t_first + second.seconds
+        t_after = time.perf_counter()
+        if half is not None:
+            raw = _glue(domain, plan, half, raw)
+
+        t0 = time.perf_counter()
+        # the binding answers a dict: its one conversion into the record
+        split = SplitMesh(**_kernels.split_faces(raw.x, raw.cells, raw.crack_edges, raw.crack_fracture,
+                                                 raw.boundary_edges))
+        tips = _tip_nodes(plan, raw, split)
+        x = _kernels.quarter_points(split.x, split.cells, np.array([t.node for t in tips], dtype=np.int64))
+        jac = _kernels.min_jacobian(x, split.cells)
+        if jac.size and jac.min() <= 0.0:
+            bad = int(np.argmin(jac))
+            raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
+        t_split = time.perf_counter() - t0
+        x, jac = frame.back(x), jac * frame.scale**2
+        for t in tips:
+            t.x, t.h = frame.back(t.x), t.h * frame.scale
+
+        names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
+        mesh = CrackMesh(
+            x=x,
+            cells=split.cells,
+            boundary_edges=split.boundary_edges,
+            boundary_tags=np.array([names[n] for n in raw.boundary_name], dtype=np.int64),
+            boundary_names=names,
+            pairs=split.pairs,
+            pair_normal=split.pair_normal,
+            pair_fracture=split.pair_fracture,
+            crack_edges=split.crack_edges,
+            crack_fracture=raw.crack_fracture,
+            tips=tips,
+            point_nodes=raw.point_nodes,
+            crack_edges_minus=split.crack_edges_minus,
+        )
+        mesh.stats = {
+            "nodes": int(len(x)),
+            "vertices": int(len(np.unique(mesh.cells[:, :3]))),
+            "cells": int(len(mesh.cells)),
+            "boundary_edges": int(len(mesh.boundary_edges)),
+            "crack_edges": int(len(mesh.crack_edges)),
+            "pairs": int(len(mesh.pairs)),
+            "tips": len(tips),
+            "min_jacobian": float(jac.min()) if jac.size else 0.0,
+            "min_quality": float(triangle_quality(x, mesh.cells).min()) if len(mesh.cells) else 0.0,
+            # gmsh's own time (in the worker: not the caller's wait, which the pipeline overlaps)
+            "seconds_gmsh": t_gmsh,
+            "gmsh_retried": retried,
+            "symmetric": half is not None,
+            "divider_angle": None if half is None else math.degrees(half.angle),
+            "seconds_split": t_split,
+            # planning + gmsh + the rest here
+            "seconds": self._seconds + t_gmsh + (time.perf_counter() - t_after),
+        }
+        return mesh
 
 
 @dataclass(frozen=True)

@@ -107,13 +107,13 @@ def test_sif_meshes_in_the_worker_under_the_time_limit(monkeypatch):
     from wingcrack import step
 
     seen = []
-    real = worker.call
+    real = worker.send
 
-    def call(fn, args, timeout):
+    def send(fn, args, timeout):
         seen.append(timeout)
         return real(fn, args, timeout)
 
-    monkeypatch.setattr(worker, "call", call)
+    monkeypatch.setattr(worker, "send", send)
     wingcrack.sif(fixed_plate())
     assert seen == [step.MESH_TIMEOUT]
 

@@ -100,6 +100,7 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     _require_case(case)
     if out is not None:
         _folder_name(out)
+    step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     with _folder_lock(out, create=True):
         return _sif(case, out, force)
 
@@ -175,6 +176,7 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
                         f"{type(progress).__name__}")
     if out is not None:
         _folder_name(out)
+    step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     with _folder_lock(out, create=not resume):
         return _run(case, out, progress, plots, force, resume)
 

@@ -242,8 +242,60 @@ def driving(tips: list, case) -> list:
     return out
 
 
+class MeshRequest:
+    """The crack mesh of some fractures, begun (start_mesh) and not yet
+    collected: discretise(..., mesh=request) waits for it. Under MPI rank 0
+    meshes; collecting is collective (every rank gets the mesh or the error,
+    also an error of the start, which is raised there and not before)."""
+
+    def __init__(self, case, fractures, sizes, timeout):
+        from meshing.crack_mesh import start_crack_mesh
+
+        from .parallel import RootPending
+
+        self.polylines = [np.asarray(f.points, float).copy() for f in fractures]
+        self.sizes = sizes
+        self._pending = RootPending(lambda: start_crack_mesh(
+            case.domain, self.polylines, case.bc_points(), case.mesh.size, case.mesh.tip_size,
+            sectors=case.mesh.sectors, sizes=sizes, timeout=timeout))
+
+    def is_for(self, polylines, sizes) -> bool:
+        return sizes is self.sizes and len(polylines) == len(self.polylines) and \
+            all(np.array_equal(a, b) for a, b in zip(polylines, self.polylines))
+
+    def result(self):
+        """The CrackMesh (collective)."""
+        return self._pending.result()
+
+    def cancel(self) -> None:
+        """Abandon it (the meshing worker stops); local."""
+        self._pending.cancel()
+
+
+def start_mesh(case, fractures, sizes=None, timeout: float | None = MESH_TIMEOUT) -> MeshRequest:
+    """Begin the crack mesh of `fractures` (as discretise would mesh them)
+    in the meshing worker and return at once, so that the caller works
+    meanwhile (the propagation loop writes the previous step's files);
+    discretise(..., mesh=the request) collects it. The time limit runs from
+    now. Nothing is raised here: a geometry that cannot be meshed fails
+    where the mesh is collected, as the step it belongs to."""
+    return MeshRequest(case, fractures, sizes, timeout)
+
+
+def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
+    """Start the meshing worker (rank 0, when meshing goes to it: a time
+    limit), so that its start-up overlaps the caller's (DOLFINx's import,
+    the form compilation) instead of the first mesh's wait."""
+    from .parallel import world_rank
+
+    if timeout is not None and world_rank() == 0:
+        from meshing import start_worker
+
+        start_worker()
+
+
 def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT,
-               history=None) -> Discretisation:
+               history=None, mesh: MeshRequest | None = None) -> Discretisation:
     """Mesh `fractures` (anything with .points: case Fracture or
     GrowingFracture) in the case's domain, with the bc points as nodes, in
     the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
@@ -252,21 +304,28 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     sizes: the error-estimate size field of the previous step (or None);
     history: the converged slip of the previous step's faces
     (contact.slip_history.SlipHistory), carried to this mesh's Coulomb pairs
-    by arc length as the reference of the first increment (None: no slip)."""
-    from meshing.crack_mesh import crack_mesh
-
-    from .contact.constraints import constraint_rows
-    from .fem.contact_problem import ContactProblem
-    from .fem.elasticity import ElasticProblem
-    from .fem.mesh import to_dolfinx
-    from .fem.pair_operator import PairOperator
-    from .free_pieces import describe, free_pieces
-    from .loads import case_loads
-    from .parallel import on_root
-
+    by arc length as the reference of the first increment (None: no slip);
+    mesh: the mesh of these fractures and sizes begun by start_mesh (None:
+    begun here)."""
     polylines = [np.asarray(f.points, float) for f in fractures]
-    cm = on_root(lambda: crack_mesh(case.domain, polylines, case.bc_points(), case.mesh.size, case.mesh.tip_size,
-                                    sectors=case.mesh.sectors, sizes=sizes, timeout=timeout))
+    if mesh is None:   # begun before the imports below, which then overlap gmsh
+        mesh = start_mesh(case, fractures, sizes, timeout)
+    elif not mesh.is_for(polylines, sizes):
+        mesh.cancel()
+        raise RuntimeError("the mesh begun for this step is of other fractures or sizes (a bug in the caller)")
+    try:
+        from .contact.constraints import constraint_rows
+        from .fem.contact_problem import ContactProblem
+        from .fem.elasticity import ElasticProblem
+        from .fem.mesh import to_dolfinx
+        from .fem.pair_operator import PairOperator
+        from .free_pieces import describe, free_pieces
+        from .loads import case_loads
+    except BaseException:   # Ctrl-C during the imports: the mesh is not collected
+        mesh.cancel()
+        raise
+
+    cm = mesh.result()
     timer.lap("mesh")
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")

@@ -55,9 +55,35 @@ def _plain(obj):
 
 
 def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None) -> None:
-    """history: the converged slip of the Coulomb faces (SlipHistory, or None)."""
+    """steps: the finished steps' records (dicts); history: the converged
+    slip of the Coulomb faces (SlipHistory, or None)."""
+    _save(out, fingerprint(case), k, fset, lam, steps, None, sizes, history)
+
+
+class Writer:
+    """The checkpoints of one run: save() after every step, at the cost of
+    that step (the case's fingerprint once, each step record's text once);
+    the file is the one `save` writes."""
+
+    def __init__(self, out, case):
+        from ..io.summary import StepTexts
+
+        self.out, self.case = out, fingerprint(case)
+        self._texts = StepTexts(lambda r: json.dumps(r.to_dict(), default=_plain))
+
+    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None) -> None:
+        """records: the finished steps (results.StepRecord)."""
+        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history)
+
+
+#: where the steps' texts go in the meta's text (no case text holds NULs)
+_STEPS_MARK = "\0steps of the checkpoint\0"
+
+
+def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history) -> None:
     meta = {
-        "version": VERSION, "case": fingerprint(case), "step": k, "load_factor": lam, "steps": steps,
+        "version": VERSION, "case": case_print, "step": k, "load_factor": lam,
+        "steps": steps if step_texts is None else _STEPS_MARK,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
                        "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion,
                        "pressure": f.pressure, "joined_to": list(f.joined_to)}
@@ -68,8 +94,14 @@ def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, h
         arrays["size_triangles"], arrays["size_values"] = sizes
     if history is not None:
         arrays.update(history.to_arrays())
+    text = json.dumps(meta, default=_plain)
+    if step_texts is not None:   # the same text as json.dumps of the records' dicts in the meta
+        mark = json.dumps(_STEPS_MARK)
+        if text.count(mark) != 1:
+            raise ValueError("a fracture's text holds the checkpoint's steps mark")
+        text = text.replace(mark, "[" + ", ".join(step_texts) + "]")
     buf = io.BytesIO()   # built in memory: an interrupt here leaves no file and no open zip on disk
-    np.savez(buf, meta=np.array(json.dumps(meta, default=_plain)), **arrays)
+    np.savez(buf, meta=np.array(text), **arrays)
     write_atomic(Path(out) / NAME, buf.getvalue())
 
 

@@ -25,8 +25,6 @@ import signal
 import sys
 import threading
 
-import meshing
-
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _pressed = None   # the exception class of a signal received and not yet raised
 
@@ -97,14 +95,13 @@ def _main_thread() -> bool:
 class watching:
     """The SIGINT and SIGTERM handling of one run (main thread only; elsewhere a no-op).
     `import gmsh` resets SIGINT to its default (the process would just
-    die), so gmsh is imported first (meshing.load_gmsh); on leaving,
-    Python's own handler is put back (and the SIGTERM handler that was
-    there)."""
+    die): gmsh runs in the meshing worker, and where it is imported in this
+    process (an in-process mesh) meshing.load_gmsh keeps the handler in
+    place. On leaving, Python's own handler is put back (and the SIGTERM
+    handler that was there)."""
 
     def __enter__(self):
         global _pressed
-        meshing.load_gmsh()  # its import is what resets SIGINT: have it done first
-
         _pressed = None
         self.active = _main_thread()
         if self.active:

@@ -6,7 +6,9 @@
     -> solve + SIFs (wingcrack.step)
     -> growth (growth: MTS direction, Paris-type lengths, the L_min rule,
        joining other fractures and the boundary)
-    -> the next mesh's sizes (the error estimate) -> next step.
+    -> the next mesh's sizes (the error estimate)
+    -> the next step's mesh begun in the meshing worker, while this step's
+       files, summary.json and the checkpoint are written -> next step.
 
 summary.json is rewritten after every step; a failure keeps every finished
 step and says "failed: <reason>". A step in which no tip moves ends the run
@@ -109,8 +111,30 @@ def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TI
     has them. Ctrl-C (SIGINT) stops at once with status "stopped:
     interrupted", every finished step kept, and raises KeyboardInterrupt
     again; SIGTERM the same with "stopped: terminated"."""
-    with interrupt.watching(), _collector_skips_modules():
-        return _run(case, out, progress, mesh_timeout, resume, finishing)
+    step.start_meshing(mesh_timeout)   # the worker's start-up overlaps the imports of preload()
+    with interrupt.watching(), _NextMesh() as next_mesh, contextlib.ExitStack() as frozen:
+        return _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen)
+
+
+class _NextMesh:
+    """The next step's mesh (step.MeshRequest), begun during this step; a
+    run that ends in any way before collecting it abandons it (the meshing
+    worker stops: no answer is left unread)."""
+
+    def __init__(self):
+        self.request = None
+
+    def take(self):
+        request, self.request = self.request, None
+        return request
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.request is not None:
+            self.take().cancel()
+        return False
 
 
 @contextlib.contextmanager
@@ -131,10 +155,10 @@ def _collector_skips_modules():
         gc.unfreeze()
 
 
-def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
+def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen) -> RunResult:
     from mpi4py import MPI
 
-    from ..io.summary import write_summary
+    from ..io.summary import SummaryWriter
 
     comm = MPI.COMM_WORLD
     out = None if out is None else Path(out)   # made ready by api.run
@@ -155,6 +179,9 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
         fset, lam, sizes, first = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
         history = ck["history"]
         records = [StepRecord.from_dict(s) for s in ck["steps"]]
+    if first < prop.steps and fset.active_tips():   # its gmsh overlaps the imports of preload()
+        next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout)
+    frozen.enter_context(_collector_skips_modules())
 
     done = fset.copy()   # the fractures after the last finished step
     warnings = []        # about the whole run (from `finishing`)
@@ -162,9 +189,13 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
     def summary_now(st) -> dict:
         return step.summary(case, st, records, done.summary(), warnings).to_dict()
 
+    writes = out is not None and comm.rank == 0
+    summary_file = SummaryWriter(out / "summary.json") if writes else None
+    checkpoints = checkpoint.Writer(out, case) if writes else None
+
     def write(st):
-        if out is not None and comm.rank == 0:
-            write_summary(out / "summary.json", summary_now(st))
+        if writes:
+            summary_file.write(step.summary(case, st, records, done.summary(), warnings))
 
     if not records and first >= prop.steps:
         status = NO_STEPS
@@ -178,7 +209,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 break
             _release(disc)   # the previous step's factors and forms
             disc = shown = None
-            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history)
+            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history,
+                                   mesh=next_mesh.take())
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
             if not grow:
@@ -221,6 +253,10 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
             if case.mesh.adaptive:
                 sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
                 timer.lap("estimate")
+            if k + 1 < prop.steps and fset.active_tips():
+                # step k+1's mesh is made while step k is written; it fails (if it does) as step k+1
+                next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout)
+                timer.lap("mesh")
             record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
@@ -231,8 +267,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing) -> RunResult:
                 done = fset.copy()
                 history = converged
                 write("running")
-                if out is not None and comm.rank == 0:
-                    checkpoint.save(out, case, k, fset, lam, [r.to_dict() for r in records], sizes, history)
+                if writes:
+                    checkpoints.save(k, fset, lam, records, sizes, history)
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
             write(status)
