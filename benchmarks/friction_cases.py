@@ -59,9 +59,12 @@ def row(name: str, out: Path) -> str:
             f"{np.mean(solves):.1f} (max {max(solves)}) |")
 
 
-def main(argv=None) -> None:
+def main(argv=None, runs: dict | None = None) -> None:
+    """The table; `runs` ({name: propagation.run_case result}, as
+    benchmarks/cases.py made them): those cases are read, not run again."""
     argv = sys.argv[1:] if argv is None else argv
     keep = Path(argv[0]) if argv else None
+    runs = runs or {}
     with tempfile.TemporaryDirectory() as tmp:
         base = keep or Path(tmp)
         print("\n| case | initiation load factor | kink at step 0 (deg) | tips grown | steps: status | "
@@ -69,8 +72,8 @@ def main(argv=None) -> None:
         print("|---|---|---|---|---|---|---|---|")
         for pair in PAIRS:
             for name in pair:
-                out = base / name
-                r = run_case(name, out)
+                r = runs.get(name) or run_case(name, base / name)
+                out = r["out"]
                 if r["exit"] not in (0, 1):
                     print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
                     continue

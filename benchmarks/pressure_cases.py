@@ -97,18 +97,21 @@ def row(name: str, out: Path, wall: float, number: int) -> str:
             f"{wall:.0f} s |")
 
 
-def main(argv=None) -> None:
+def main(argv=None, runs: dict | None = None) -> None:
+    """The table; `runs` ({name: propagation.run_case result}, as
+    benchmarks/cases.py made them): those cases are read, not run again."""
     argv = sys.argv[1:] if argv is None else argv
     keep = Path(argv[0]) if argv else None
     names = argv[1:] or CASES
+    runs = runs or {}
     with tempfile.TemporaryDirectory() as tmp:
         base = keep or Path(tmp)
         print("\n| case | first wings at | kink (deg) | tips grown (from step) | joined (tip -> fracture) | "
               "pressurised at the end | steps: status | solves per step | wall |")
         print("|---|---|---|---|---|---|---|---|---|")
         for name in names:
-            out = base / name
-            r = run_case(name, out)
+            r = runs.get(name) or run_case(name, base / name)
+            out = r["out"]
             if r["exit"] not in (0, 1):
                 print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
                 continue
