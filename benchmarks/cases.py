@@ -58,9 +58,9 @@ def header(about: str) -> None:
     for line in phases.mapping_text().splitlines():
         print("  " + line)
     print("  (\"-\": no such key was recorded; \"patch\", local remeshing, does not exist yet)")
-    print("wall: the process's, start-up and form compilation included; rest = wall - the steps' own "
-          "seconds (start-up, summary and checkpoint writes)")
-    print(f"x faster = base wall / wall; per step = the same of the steps' own seconds per step. "
+    print("wall: the process's, start-up and form compilation included; cpu: its CPU seconds (user + system); "
+          "rest = wall - the steps' own seconds (start-up, summary and checkpoint writes)")
+    print(f"faster = base wall / wall; /step = the same of the steps' own seconds per step. "
           f"Base: {about}")
 
 
@@ -70,8 +70,8 @@ def report(runs: dict, baseline: dict) -> dict:
     base = baseline.get("cases", {})
     header(baseline.get("about", "?"))
     rows = {}
-    print(f"\n{'case':28s} {'status':9s} {'steps':>5s} {'DOFs first/last':>17s} {'wall s':>7s} {'rest s':>6s} "
-          f"{'RSS MiB':>7s} | {'base s':>6s} {'faster':>6s} {'/step':>6s} | flags")
+    print(f"\n{'case':28s} {'status':9s} {'steps':>5s} {'DOFs first/last':>17s} {'wall s':>7s} {'cpu s':>6s} "
+          f"{'rest s':>6s} {'RSS MiB':>7s} | {'base s':>6s} {'faster':>6s} {'/step':>6s} | flags")
     for name, r in runs.items():
         fig = figures(r)
         cmp = compare(fig, base.get(name))
@@ -80,7 +80,7 @@ def report(runs: dict, baseline: dict) -> dict:
         rest = fig["wall"] - fig["phases"].get("total", 0.0)
         b = base.get(name)
         print(f"{name:28s} {fig['status'].split(':')[0][:9]:9s} {fig['steps']:5d} {dofs:>17s} {fig['wall']:7.1f} "
-              f"{rest:6.1f} {fig['rss_mib']:7.0f} | {_f(b and b['wall'], 6, 1)} {_ratio(cmp['ratio'])} "
+              f"{_f(fig['cpu'], 6, 1)} {rest:6.1f} {fig['rss_mib']:7.0f} | {_f(b and b['wall'], 6, 1)} {_ratio(cmp['ratio'])} "
               f"{_ratio(cmp['step_ratio'])} | {', '.join(cmp['flags'])}")
     names = list(phases.ISSUE_PHASES) + [phases.OTHER]
     print(f"\nseconds per step by phase\n{'case':28s} {'total':>7s} " + " ".join(f"{p:>9s}" for p in names))
@@ -111,9 +111,10 @@ def paired(names, base_root: Path, pairs: int, out: Path) -> None:
     if not base_wc.exists():
         sys.exit(f"--base: {base_wc} does not exist (run `make setup` in {base_root})")
     print(f"Paired: each case {pairs} time(s) with {base_root} (base) and {ROOT} (new), alternately; "
-          "ratios of the medians (base / new: > 1 is faster than the base)")
-    print(f"\n{'case':28s} {'base s':>7s} {'new s':>7s} {'faster':>6s} {'/step':>6s} {'RSS base/new MiB':>17s} "
-          f"| pairs (base/new s) | flags")
+          "ratios of the medians (base / new: > 1 is faster than the base) of the process wall (faster), "
+          "the steps' own seconds per step (/step) and the CPU seconds (cpu)")
+    print(f"\n{'case':28s} {'base s':>7s} {'new s':>7s} {'faster':>6s} {'/step':>6s} {'cpu':>6s} "
+          f"{'RSS base/new MiB':>17s} | pairs (base/new s) | flags")
     for name in names:
         base_case = base_root / "cases" / f"{name}.toml"
         if not base_case.exists():
@@ -130,7 +131,7 @@ def paired(names, base_root: Path, pairs: int, out: Path) -> None:
             cmp["flags"].append("case files differ")
         walls = ", ".join(f"{b['wall']:.1f}/{n['wall']:.1f}" for b, n in zip(runs["base"], runs["new"]))
         print(f"{name:28s} {med['base']['wall']:7.1f} {med['new']['wall']:7.1f} {_ratio(cmp['ratio'])} "
-              f"{_ratio(cmp['step_ratio'])} {med['base']['rss_mib']:8.0f}/{med['new']['rss_mib']:<8.0f} | {walls} | "
+              f"{_ratio(cmp['step_ratio'])} {_ratio(cmp['cpu_ratio'])} {med['base']['rss_mib']:8.0f}/{med['new']['rss_mib']:<8.0f} | {walls} | "
               f"{', '.join(cmp['flags'])}", flush=True)
 
 
@@ -139,7 +140,9 @@ def median_figures(figs: list) -> dict:
     seconds summed per phase; status, steps and DOFs of the first run (a run
     is deterministic in those)."""
     keys = sorted({k for f in figs for k in f["phases"]})
+    cpu = [f["cpu"] for f in figs if f.get("cpu") is not None]
     return dict(figs[0], wall=statistics.median(f["wall"] for f in figs),
+                cpu=statistics.median(cpu) if cpu else None,
                 rss_mib=statistics.median(f["rss_mib"] for f in figs),
                 phases={k: statistics.median(f["phases"].get(k, 0.0) for f in figs) for k in keys})
 

@@ -98,19 +98,21 @@ def row(name: str, out: Path, wall: float, number: int) -> str:
 
 
 def main(argv=None, runs: dict | None = None) -> None:
-    """The table; `runs` ({name: propagation.run_case result}, as
-    benchmarks/cases.py made them): those cases are read, not run again."""
+    """The table; with `runs` ({name: propagation.run_case result}, as
+    benchmarks/cases.py made them) the table of those runs, read, not run
+    again (a case of the table not among them is left out)."""
     argv = sys.argv[1:] if argv is None else argv
     keep = Path(argv[0]) if argv else None
     names = argv[1:] or CASES
-    runs = runs or {}
     with tempfile.TemporaryDirectory() as tmp:
         base = keep or Path(tmp)
         print("\n| case | first wings at | kink (deg) | tips grown (from step) | joined (tip -> fracture) | "
               "pressurised at the end | steps: status | solves per step | wall |")
         print("|---|---|---|---|---|---|---|---|---|")
         for name in names:
-            r = runs.get(name) or run_case(name, base / name)
+            if runs is not None and name not in runs:
+                continue
+            r = runs[name] if runs is not None else run_case(name, base / name)
             out = r["out"]
             if r["exit"] not in (0, 1):
                 print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")

@@ -20,8 +20,10 @@ def run_case(name: str, out: Path, case: Path | None = None, wingcrack: Path = W
     """`wingcrack run` of the case `name` (cases/<name>.toml, or the file
     `case`) into `out` as its own process, with the `wingcrack` program of
     this checkout (or another's: benchmarks/cases.py --base): exit code,
-    process wall (s, start-up included), the process's peak RSS (MiB), the
-    summary (empty when none was written), the tail of stderr, out."""
+    process wall (s, start-up included), its CPU seconds (user + system, its
+    gmsh worker's included: less moved by a shared machine than the wall),
+    its peak RSS (MiB), the summary (empty when none was written), the tail
+    of stderr, out."""
     case = case or ROOT / "cases" / f"{name}.toml"
     out.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -34,5 +36,5 @@ def run_case(name: str, out: Path, case: Path | None = None, wingcrack: Path = W
     wall = time.perf_counter() - t0
     summary = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else {}
     return {"name": name, "exit": os.waitstatus_to_exitcode(status), "wall": wall,
-            "peak_mib": usage.ru_maxrss / 1024, "summary": summary, "stderr": err.read_text().strip()[-300:],
+            "cpu": usage.ru_utime + usage.ru_stime, "peak_mib": usage.ru_maxrss / 1024, "summary": summary, "stderr": err.read_text().strip()[-300:],
             "out": out}

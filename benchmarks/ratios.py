@@ -26,12 +26,13 @@ def load_baseline(path: Path = BASELINE) -> dict:
 def figures(run: dict) -> dict:
     """A run of propagation.run_case as baseline.json holds a case: process
     wall (s), peak RSS (MiB), status, steps, DOFs [first, last], phases (the
-    summary's seconds summed over the steps)."""
+    summary's seconds summed over the steps), cpu (s, None when not measured)."""
     s = run.get("summary", {})
     steps = s.get("steps", [])
     status = s.get("status") or f"exit {run.get('exit')}: {run.get('stderr', '')[-120:]}"
     return {"wall": run["wall"], "rss_mib": run["peak_mib"], "status": status, "steps": len(steps),
-            "dofs": [steps[0]["dofs"], steps[-1]["dofs"]] if steps else None, "phases": summed(steps)}
+            "dofs": [steps[0]["dofs"], steps[-1]["dofs"]] if steps else None, "phases": summed(steps),
+            "cpu": run.get("cpu")}
 
 
 def per_step_total(fig: dict) -> float | None:
@@ -41,17 +42,19 @@ def per_step_total(fig: dict) -> float | None:
 
 def compare(new: dict, base: dict | None, target: float = TARGET_RATIO) -> dict:
     """`ratio`: base wall / new wall (> 1: faster than today); `step_ratio`
-    the same of the seconds per step; `flags`: what the report marks (a
+    the same of the seconds per step, `cpu_ratio` of the CPU seconds (None
+    unless both have them); `flags`: what the report marks (a
     failed run, slower than base, under the target ratio, another status,
     other step counts, fewer DOFs than today). None ratios without a base."""
     flags = []
     if new["status"].startswith(("failed", "exit")):
         flags.append("FAILED")
     if base is None:
-        return {"ratio": None, "step_ratio": None, "flags": flags + ["no baseline"]}
+        return {"ratio": None, "step_ratio": None, "cpu_ratio": None, "flags": flags + ["no baseline"]}
     ratio = base["wall"] / new["wall"] if new["wall"] > 0 else None
     b, n = per_step_total(base), per_step_total(new)
     step_ratio = b / n if b and n else None
+    cpu_ratio = base["cpu"] / new["cpu"] if base.get("cpu") and new.get("cpu") else None
     if ratio is not None and ratio < 1.0:
         flags.append("SLOWER")
     elif ratio is not None and ratio < target:
@@ -62,4 +65,4 @@ def compare(new: dict, base: dict | None, target: float = TARGET_RATIO) -> dict:
         flags.append(f"steps were {base['steps']}")
     if new.get("dofs") and base.get("dofs") and any(x < y for x, y in zip(new["dofs"], base["dofs"])):
         flags.append(f"fewer DOFs (were {base['dofs'][0]:,}/{base['dofs'][1]:,})")
-    return {"ratio": ratio, "step_ratio": step_ratio, "flags": flags}
+    return {"ratio": ratio, "step_ratio": step_ratio, "cpu_ratio": cpu_ratio, "flags": flags}

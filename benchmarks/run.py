@@ -190,7 +190,7 @@ def main(argv=None):
         friction_table([str(out / "cases")], runs=runs)
         pressure_table([str(out / "cases")], runs=runs)
         section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
-        print(f"today = {baseline.get('about', '?')}")
+        print(baseline.get("about", "?"))
         tdir = out / "targets"
         tdir.mkdir(parents=True, exist_ok=True)
         base_targets = baseline.get("targets", {})

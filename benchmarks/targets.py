@@ -47,7 +47,8 @@ def disc_34(tmp: Path, base: dict) -> dict:
     b = base.get("disc_34", {})
     print(f"\nTarget 1: open 45-degree disc, 34 steps ({OPEN_DISC.name} with propagation.steps = 34)")
     dofs = f"{fig['dofs'][0]:,}/{fig['dofs'][1]:,}" if fig["dofs"] else "-"
-    print(f"  {fig['steps']} steps, {fig['status']}; DOFs first/last {dofs}; peak RSS {fig['rss_mib']:.0f} MiB")
+    print(f"  {fig['steps']} steps, {fig['status']}; DOFs first/last {dofs}; the steps' own seconds "
+          f"{fig['phases'].get('total', 0.0):.1f} s; CPU {fig['cpu']:.1f} s; peak RSS {fig['rss_mib']:.0f} MiB")
     print(f"  process wall {fig['wall']:.1f} s: target <= {DISC_34_WALL_S:g} s "
           f"({'met' if fig['wall'] <= DISC_34_WALL_S else 'not met'}); "
           f"{PUBLISHED_34_S / fig['wall']:.1f}x the published code ({PUBLISHED_34_S:g} s; target >= 30x)")
@@ -158,7 +159,7 @@ def main(argv=None) -> None:
     which = set(args.only or ([1, 2, 3] if args.large else [1, 2]))
     base = load_baseline()
     print(f"\n{LINE}\nBENCHMARK (issue 16): targets {', '.join(map(str, sorted(which)))}"
-          f"\n  today = {base.get('about', '?')}\n{LINE}")
+          f"\n  {base.get('about', '?')}\n{LINE}")
     targets = base.get("targets", {})
     with tempfile.TemporaryDirectory() as tmp:
         out = args.keep or Path(tmp)

@@ -87,7 +87,10 @@ def test_ratios_and_flags_against_a_base():
     flags = ratios.compare(failed, base)["flags"]
     assert flags[0] == "FAILED" and "status was 'finished'" in flags
     assert ratios.compare(ratios.figures(run(5.0)), None) == {"ratio": None, "step_ratio": None,
-                                                              "flags": ["no baseline"]}
+                                                              "cpu_ratio": None, "flags": ["no baseline"]}
+    assert fast["cpu_ratio"] is None   # today's figures have no CPU seconds
+    with_cpu = ratios.compare(dict(ratios.figures(run(15.0)), cpu=8.0), dict(base, cpu=24.0))
+    assert with_cpu["cpu_ratio"] == pytest.approx(3.0)
 
 
 def test_the_committed_baseline_is_of_cases_that_exist():
