@@ -8,6 +8,7 @@ with the flags of target 4 (ratios.py).
 
     python benchmarks/cases.py [--cases NAME ...] [--keep DIR] [--json FILE]
     python benchmarks/cases.py --base CHECKOUT [--pairs N] [--cases NAME ...]
+    CHECKOUT/.venv/bin/python benchmarks/cases.py --json FILE   (another checkout's figures, these case files)
 
 With --base, each case runs alternately with the other checkout (its own
 .venv/bin/wingcrack and its own case file of that name) and with this one,
@@ -100,6 +101,8 @@ def report(runs: dict, baseline: dict) -> dict:
         f"not met: {len(slow)} of {len(rows)} case(s) under {TARGET_RATIO:g}x, {len(slower)} slower than today" + \
         (f", {len(no_base)} without a baseline" if no_base else "")
     print(f"\ntarget 4 (every case >= {TARGET_RATIO:g}x faster than today end to end, none slower): {verdict}")
+    print("  (one run each against figures of another hour on a shared machine: compare the cpu column, "
+          "or run `benchmarks/cases.py --base CHECKOUT --pairs N` for ratios of runs side by side)")
     return rows
 
 

@@ -146,7 +146,8 @@ def large(tmp: Path, base: dict, ranks=(1, 2)) -> dict:
     if 1 in ok and 2 in ok:
         t1, t2 = (ok[n]["steps"][-1]["seconds"]["total"] for n in (1, 2))
         print(f"  two processes {t2:.1f} s against one {t1:.1f} s: "
-              f"{'faster' if t2 < t1 else 'NOT faster'} ({t1 / t2:.2f}x)")
+              f"{'faster' if t2 < t1 else 'NOT faster'} ({t1 / t2:.2f}x; today {b.get('step_s_2_ranks', '?')} s "
+              f"against {b.get('step_s', '?')} s)")
     return results
 
 
