@@ -10,7 +10,7 @@ machine at this time, next to today's of benchmarks/baseline.json):
    mesh, contact) on 1 and 2 processes: <= 10 s, no more memory than
    today, two processes faster than one.
 
-    python benchmarks/targets.py [--large] [--only 1 2 3] [--keep DIR]
+    python benchmarks/targets.py [--large] [--only 1 2 3] [--keep DIR] [--base CHECKOUT]
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import phases
 from case_variant import write_variant
-from propagation import ROOT, run_case
+from propagation import ROOT, WINGCRACK, run_case
 from ratios import figures, load_baseline
 
 OPEN_DISC = ROOT / "cases" / "brazilian_disc_45_open.toml"
@@ -40,12 +40,14 @@ def _x(a, b) -> str:
     return f"{a / b:.2f}x" if a and b else "-"
 
 
-def disc_34(tmp: Path, base: dict) -> dict:
-    """Target 1: the open disc, 34 steps, its process wall against 8 s, the published code and today's."""
+def disc_34(tmp: Path, base: dict, wingcrack: Path = WINGCRACK, label: str = "") -> dict:
+    """Target 1: the open disc, 34 steps, its process wall against 8 s, the
+    published code and today's; run by `wingcrack` (another checkout's with
+    --base, its name in `label`)."""
     case = write_variant(OPEN_DISC, DISC_34, tmp / "disc_34.toml")
-    fig = figures(run_case("disc_34", tmp / "disc_34", case=case))
+    fig = figures(run_case("disc_34", tmp / f"disc_34{label and '_base'}", case=case, wingcrack=wingcrack))
     b = base.get("disc_34", {})
-    print(f"\nTarget 1: open 45-degree disc, 34 steps ({OPEN_DISC.name} with propagation.steps = 34)")
+    print(f"\nTarget 1: open 45-degree disc, 34 steps ({OPEN_DISC.name} with propagation.steps = 34){label}")
     dofs = f"{fig['dofs'][0]:,}/{fig['dofs'][1]:,}" if fig["dofs"] else "-"
     print(f"  {fig['steps']} steps, {fig['status']}; DOFs first/last {dofs}; the steps' own seconds "
           f"{fig['phases'].get('total', 0.0):.1f} s; CPU {fig['cpu']:.1f} s; peak RSS {fig['rss_mib']:.0f} MiB")
@@ -80,13 +82,14 @@ def reuse(steps: list) -> dict:
     return {"fractions": fractions, "phases": by_phase}
 
 
-def fine_disc(tmp: Path, base: dict) -> dict:
-    """Target 2: the fine uniform disc, 8 steps; each growth step against the first."""
+def fine_disc(tmp: Path, base: dict, wingcrack: Path = WINGCRACK, label: str = "") -> dict:
+    """Target 2: the fine uniform disc, 8 steps; each growth step against the
+    first (`wingcrack`, `label`: as for disc_34)."""
     case = write_variant(OPEN_DISC, FINE_DISC, tmp / "fine_disc.toml")
-    r = run_case("fine_disc", tmp / "fine_disc", case=case)
+    r = run_case("fine_disc", tmp / f"fine_disc{label and '_base'}", case=case, wingcrack=wingcrack)
     steps = r["summary"].get("steps", [])
     print("\nTarget 2: the reuse ratio, open disc on a fine uniform mesh (mesh.size = 0.0008, "
-          "mesh.adaptive = false), 8 steps")
+          f"mesh.adaptive = false), 8 steps{label}")
     if len(steps) < 2:
         print(f"  {len(steps)} step(s): no growth step to compare ({r['summary'].get('status', r['stderr'][-200:])})")
         return {}
@@ -105,7 +108,7 @@ def fine_disc(tmp: Path, base: dict) -> dict:
     for name, (t0, tl, q) in ru["phases"].items():
         print(f"  {name:9s} {t0 if t0 is not None else float('nan'):8.3f} "
               f"{tl if tl is not None else float('nan'):8.3f} {'-' if q is None else f'{100 * q:.0f} %':>11s}")
-    return ru
+    return dict(ru, wall=r["wall"], cpu=r["cpu"])
 
 
 def large(tmp: Path, base: dict, ranks=(1, 2)) -> dict:
@@ -156,6 +159,7 @@ def main(argv=None) -> None:
     ap.add_argument("--large", action="store_true", help="target 3 too (1.10M DOFs: minutes, ~3 GB)")
     ap.add_argument("--only", type=int, nargs="+", choices=(1, 2, 3), help="these targets only")
     ap.add_argument("--keep", type=Path, help="keep the results in this folder")
+    ap.add_argument("--base", type=Path, help="targets 1-2 with this checkout too (its .venv), run just before")
     args = ap.parse_args(argv)
     which = set(args.only or ([1, 2, 3] if args.large else [1, 2]))
     base = load_baseline()
@@ -165,10 +169,16 @@ def main(argv=None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         out = args.keep or Path(tmp)
         out.mkdir(parents=True, exist_ok=True)
-        if 1 in which:
-            disc_34(out, targets)
-        if 2 in which:
-            fine_disc(out, targets)
+        for k, run in ((1, disc_34), (2, fine_disc)):
+            if k not in which:
+                continue
+            if args.base:
+                label = f" [base: {args.base}]"
+                b = run(out, targets, wingcrack=args.base.resolve() / ".venv" / "bin" / "wingcrack", label=label)
+            n = run(out, targets)
+            if args.base and b.get("wall") and n.get("wall"):
+                print(f"  this checkout against the base run just before: {b['wall'] / n['wall']:.2f}x faster "
+                      f"(wall), {b['cpu'] / n['cpu']:.2f}x (cpu)")
         if 3 in which:
             large(out, targets)
 
