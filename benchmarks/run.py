@@ -172,6 +172,11 @@ def main(argv=None):
     from ratios import load_baseline
     from scaling import TARGETS, main as bench_scaling
 
+    names = args.cases or cases.case_names()
+    unknown = [n for n in names if n not in cases.case_names()]
+    if unknown:
+        ap.error(f"--cases: no such case in cases/: {', '.join(unknown)}")
+
     print("wingcrack benchmark report (make bench): wall-clock figures of this machine now, "
           "not a test; the machine may be shared")
     section("one solve of the 45-degree disc at ~30k DOFs: phases, contact, friction, the mesher")
@@ -182,7 +187,6 @@ def main(argv=None):
     baseline = load_baseline()
     with tempfile.TemporaryDirectory() as tmp:
         out = args.keep or Path(tmp)
-        names = args.cases or cases.case_names()
         section(f"every case of cases/ end to end ({len(names)}), against today")
         runs = cases.run_all(names, out / "cases")
         cases.report(runs, baseline)
