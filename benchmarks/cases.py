@@ -88,7 +88,7 @@ def report(runs: dict, baseline: dict) -> dict:
     for name, r in runs.items():
         ps = phases.per_step(r["summary"].get("steps", []))
         if not ps:
-            print(f"{name:28s} no steps: {r['stderr'][-200:]}")
+            print(f"{name:28s} no steps: {r['summary'].get('status') or r['stderr'][-200:]}")
             continue
         print(f"{name:28s} {ps['total']:7.3f} " + " ".join(_f(ps[p], 9) for p in names))
     unknown = sorted({k for r in runs.values() for k in phases.unknown_keys(r["summary"].get("steps", []))})
@@ -101,8 +101,8 @@ def report(runs: dict, baseline: dict) -> dict:
         f"not met: {len(slow)} of {len(rows)} case(s) under {TARGET_RATIO:g}x, {len(slower)} slower than today" + \
         (f", {len(no_base)} without a baseline" if no_base else "")
     print(f"\ntarget 4 (every case >= {TARGET_RATIO:g}x faster than today end to end, none slower): {verdict}")
-    print("  (one run each against figures of another hour on a shared machine: compare the cpu column, "
-          "or run `benchmarks/cases.py --base CHECKOUT --pairs N` for ratios of runs side by side)")
+    print("  (one run each against figures of another hour on a shared machine; cpu / wall is the share of a "
+          "core a run got. Ratios of runs side by side: `benchmarks/cases.py --base CHECKOUT --pairs N`)")
     return rows
 
 
