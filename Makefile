@@ -76,7 +76,7 @@ soak: setup
 	  tests/test_admissibility_property.py
 
 bench: setup
-	$(PY) benchmarks/run.py
+	$(PY) benchmarks/run.py --large
 
 clean:
 	rm -rf build results

@@ -59,7 +59,10 @@ def row(name: str, out: Path) -> str:
             f"{np.mean(solves):.1f} (max {max(solves)}) |")
 
 
-def main(argv=None) -> None:
+def main(argv=None, runs: dict | None = None) -> None:
+    """The table; with `runs` ({name: propagation.run_case result}, as
+    benchmarks/cases.py made them) the table of those runs, read, not run
+    again (a case of the table not among them is left out)."""
     argv = sys.argv[1:] if argv is None else argv
     keep = Path(argv[0]) if argv else None
     with tempfile.TemporaryDirectory() as tmp:
@@ -69,8 +72,10 @@ def main(argv=None) -> None:
         print("|---|---|---|---|---|---|---|---|")
         for pair in PAIRS:
             for name in pair:
-                out = base / name
-                r = run_case(name, out)
+                if runs is not None and name not in runs:
+                    continue
+                r = runs[name] if runs is not None else run_case(name, base / name)
+                out = r["out"]
                 if r["exit"] not in (0, 1):
                     print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
                     continue

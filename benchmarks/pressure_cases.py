@@ -97,7 +97,10 @@ def row(name: str, out: Path, wall: float, number: int) -> str:
             f"{wall:.0f} s |")
 
 
-def main(argv=None) -> None:
+def main(argv=None, runs: dict | None = None) -> None:
+    """The table; with `runs` ({name: propagation.run_case result}, as
+    benchmarks/cases.py made them) the table of those runs, read, not run
+    again (a case of the table not among them is left out)."""
     argv = sys.argv[1:] if argv is None else argv
     keep = Path(argv[0]) if argv else None
     names = argv[1:] or CASES
@@ -107,8 +110,10 @@ def main(argv=None) -> None:
               "pressurised at the end | steps: status | solves per step | wall |")
         print("|---|---|---|---|---|---|---|---|---|")
         for name in names:
-            out = base / name
-            r = run_case(name, out)
+            if runs is not None and name not in runs:
+                continue
+            r = runs[name] if runs is not None else run_case(name, base / name)
+            out = r["out"]
             if r["exit"] not in (0, 1):
                 print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
                 continue

@@ -1,13 +1,19 @@
-"""`make bench`: per-phase timings of wingcrack solves (not a test).
+"""`make bench`: the benchmark report (not a test; no timing is asserted).
 
-Runs `wingcrack.sif` on the 45-degree Brazilian disc at about 30,000 DOFs,
-once to compile the forms and then REPEAT times, and prints the phases
-(mesh, to-DOLFINx, assemble, factorize, solve, SIF, output) with their share;
-then the mesher alone on the disc (mesh_disc.py), the propagation cases
-(propagation.py), Coulomb friction against frictionless contact on one mesh
-and what friction changes in the cases (friction_cases.py), what injection
-changes in paper 4.3 (pressure_cases.py), and the 30k-1M DOF scaling on 1 and
-2 MPI ranks (scaling.py).
+Prints, each section marked:
+- one `wingcrack.sif` on the 45-degree Brazilian disc at about 30,000 DOFs,
+  once to compile the forms and then REPEAT times: its phases with their share;
+  contact and Coulomb friction against the plain solve on that mesh; the mesher
+  alone on the disc (mesh_disc.py);
+- every case of cases/ end to end, with the issue's phases per step and the
+  ratios to today (cases.py, against benchmarks/baseline.json);
+- what friction changes in the cases (friction_cases.py) and what injection
+  changes in paper 4.3 (pressure_cases.py), read from those same runs;
+- issue 16's targets 1-3 (targets.py; 3, the 1.10M DOF step, with --large);
+- the 30k-300k DOF scaling on 1 and 2 MPI ranks (scaling.py), with the 1M
+  point of target 3 when --large ran it.
+
+    python benchmarks/run.py [--repeat N] [--large] [--cases NAME ...] [--keep DIR]
 """
 from __future__ import annotations
 
@@ -146,23 +152,58 @@ def bench_friction(repeat: int):
               f"/ frictionless {t / t0:5.2f}   with the factorisation {(f + t) / (f + t0):5.2f}")
 
 
+def section(title: str) -> None:
+    print(f"\n{'=' * 100}\nBENCHMARK: {title}\n{'=' * 100}", flush=True)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--large", action="store_true", help="target 3 too: a step at 1.10M DOFs on 1 and 2 ranks")
+    ap.add_argument("--cases", nargs="+", help="these cases of cases/ only (default: every one)")
+    ap.add_argument("--keep", type=Path, help="keep the case results in this folder")
     args = ap.parse_args(argv)
+
+    import cases
+    import targets
+    from friction_cases import main as friction_table
+    from mesh_disc import main as bench_mesh
+    from pressure_cases import main as pressure_table
+    from ratios import load_baseline
+    from scaling import TARGETS, main as bench_scaling
+
+    names = args.cases or cases.case_names()
+    unknown = [n for n in names if n not in cases.case_names()]
+    if unknown:
+        ap.error(f"--cases: no such case in cases/: {', '.join(unknown)}")
+
+    print("wingcrack benchmark report (make bench): wall-clock figures of this machine now, "
+          "not a test; the machine may be shared")
+    section("one solve of the 45-degree disc at ~30k DOFs: phases, contact, friction, the mesher")
     bench_sif(args.repeat)
     bench_contact(args.repeat)
     bench_friction(args.repeat)
-    from mesh_disc import main as bench_mesh
     bench_mesh(args.repeat)
-    from propagation import main as bench_propagation
-    bench_propagation()
-    from friction_cases import main as bench_friction_cases
-    bench_friction_cases([])
-    from pressure_cases import main as bench_pressure_cases
-    bench_pressure_cases([])
-    from scaling import main as bench_scaling
-    bench_scaling([])
+    baseline = load_baseline()
+    with tempfile.TemporaryDirectory() as tmp:
+        out = args.keep or Path(tmp)
+        section(f"every case of cases/ end to end ({len(names)}), against today")
+        runs = cases.run_all(names, out / "cases")
+        cases.report(runs, baseline)
+        section("what friction changes, what injection changes (the same runs)")
+        friction_table([str(out / "cases")], runs=runs)
+        pressure_table([str(out / "cases")], runs=runs)
+        section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
+        print(baseline.get("about", "?"))
+        tdir = out / "targets"
+        tdir.mkdir(parents=True, exist_ok=True)
+        base_targets = baseline.get("targets", {})
+        targets.disc_34(tdir, base_targets)
+        targets.fine_disc(tdir, base_targets)
+        large = targets.large(tdir, base_targets) if args.large else None
+    section("scaling: one step at 30k-300k DOFs" + (" and target 3's 1M" if large else "") + ", 1 and 2 ranks")
+    bench_scaling(["--sizes"] + [str(n) for n in TARGETS if n < targets.LARGE_DOFS], extra=large)
+    print(f"\n{'=' * 100}\nEND of the benchmark report\n{'=' * 100}")
 
 
 if __name__ == "__main__":

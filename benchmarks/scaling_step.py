@@ -1,7 +1,8 @@
-"""One propagation step of a case, for benchmarks/scaling.py; run under
-mpirun. Rank 0 prints one JSON line: the step's DOFs and seconds per phase,
-and every rank's peak resident memory (its own, and its children's: gmsh
-meshes in a forked child on rank 0)."""
+"""The propagation steps of a case, for benchmarks/scaling.py and
+targets.py; run under mpirun. Rank 0 prints one JSON line: the first
+step's DOFs and seconds per phase (and every step's, "steps"), and every
+rank's peak resident memory (its own, and its children's: gmsh meshes in a
+forked child on rank 0)."""
 from __future__ import annotations
 
 import json
@@ -23,7 +24,8 @@ def main(case_path: str, out: str) -> None:
         step = result.steps[0]
         print(json.dumps({"ranks": MPI.COMM_WORLD.size, "dofs": step["dofs"], "cells": step["cells"],
                           "pairs": step["contact"]["pairs"], "seconds": step["seconds"],
-                          "peak_mib": [p[0] for p in peaks], "gmsh_peak_mib": peaks[0][1]}))
+                          "peak_mib": [p[0] for p in peaks], "gmsh_peak_mib": peaks[0][1],
+                          "steps": [{"dofs": st["dofs"], "seconds": st["seconds"]} for st in result.steps]}))
 
 
 if __name__ == "__main__":
