@@ -56,6 +56,13 @@ FIXED_POINT_RTOL = 1e-13
 SCALINGS = (1.0, 10.0, 0.1, 100.0, 0.01)
 #: a closed pair whose tangential force is within this (relative) of the bound is at it: it slips
 BOUND_RTOL = 1e-9
+#: the iteration's band round the bound (relative to the largest force): a sticking pair slips when its
+#: force is above the bound by more, a slipping one sticks when its increment turns back by more (times
+#: c_t). A pair at the bound with a zero increment (the last trials of a critical-load search, a hair above
+#: the load of their reference) satisfies both states to round-off; a one-sided band made such pairs
+#: alternate, each slip pushing a neighbour over the bound by ~1e-11 and its own increment staying below
+#: the band, and the sets cycled under every scaling (the stimulation network, 406 pairs).
+STATE_BAND = 1e-12
 #: residual of the linear equations, relative to the load scale, a converged set must reach
 RESIDUAL_RTOL = 1e-10
 
@@ -173,10 +180,17 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
         sign_new = np.zeros(m)
         F = b0[ci] + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
         z = -mu[ci] + ct * (jump[ci] - target[ci])
-        zscale = max(np.max(np.abs(mu), initial=0.0), 1e-300)
-        slipping = np.abs(z) > F + 1e-12 * zscale
+        band = STATE_BAND * max(np.max(np.abs(mu), initial=0.0), 1e-300)
+        slipping = np.abs(z) > F + band
+        direction = np.sign(z)
+        # a slipping pair sticks again only when its increment turns against its direction by more than the
+        # band, as a sticking one slips only above the bound by more than it (see STATE_BAND)
+        was = T[ci] == SLIP
+        keep = was & (sign[ci] * ct * (jump[ci] - target[ci]) >= -band)
+        slipping = np.where(was, keep | slipping, slipping)
+        direction = np.where(keep, sign[ci], direction)
         T_new[ci] = np.where(A_new[pi], np.where(slipping, SLIP, STICK), OPEN)
-        sign_new[ci] = np.where(T_new[ci] == SLIP, np.sign(z), 0.0)
+        sign_new[ci] = np.where(T_new[ci] == SLIP, direction, 0.0)
         if np.array_equal(A_new, A) and np.array_equal(T_new, T) and np.array_equal(sign_new, sign):
             eq = A | prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
