@@ -125,12 +125,17 @@ class FrictionResult(ActiveSetResult):
         }
 
 
-def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100, active=None):
+def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100, active=None,
+                   start: FrictionResult | None = None):
     """The contact problem with Coulomb rows. target: -g on normal rows, the
     prescribed slip on prescribed tangential rows, the reference slip s_ref
     on Coulomb rows; active: the normal rows to start in contact (default:
-    those penetrating without contact forces). Without Coulomb rows, the
-    frictionless active set."""
+    those penetrating without contact forces); start: a result on the same
+    rows (the last solve) whose states the iteration starts from: the trials
+    of a critical-load search differ by little and their state sets mostly
+    repeat. The answer is that of the state set the iteration ends on, not
+    of where it started; a start that does not settle is dropped. Without
+    Coulomb rows, the frictionless active set."""
     S = np.asarray(S, float)
     jump0 = np.asarray(jump0, float)
     target = np.asarray(target, float)
@@ -144,6 +149,11 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     ct = 1.0 / np.mean(np.abs(np.diag(S)[coulomb]))
 
     history = []
+    if start is not None and start.state is not None and len(start.mu) == len(jump0):
+        res = _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history,
+                          states=_start_states(start, normal, law))
+        if res is not None:
+            return res
     for scale in SCALINGS:
         res = _active_set(S, jump0, target, normal, prescribed, law, cn * scale, ct * scale, max_iter, history,
                           active)
@@ -152,9 +162,25 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     return fixed_point_solve(S, jump0, target, normal, prescribed, law, history)
 
 
-def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history, active=None):
-    """The three-state iteration with complementarity parameters cn, ct;
-    None when the state sets cycle (or do not settle in max_iter)."""
+def _start_states(start: FrictionResult, normal, law) -> tuple:
+    """(A, T, sign) of the iteration from a result: its closed normal rows,
+    its pairs' states, a slip against its tangential force (a pair at the
+    bound without force, F = 0, starts sticking)."""
+    A = normal & np.asarray(start.active, bool)
+    ci = np.flatnonzero(law.coulomb)
+    T = np.full(len(A), OPEN, np.int8)
+    sign = np.zeros(len(A))
+    s = np.sign(-start.mu[ci])
+    slip = (start.state[ci] == SLIP) & (s != 0)
+    T[ci] = np.where(A[law.partner[ci]], np.where(slip, SLIP, STICK), OPEN)
+    sign[ci] = np.where(T[ci] == SLIP, s, 0.0)
+    return A, T, sign
+
+
+def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history, active=None, states=None):
+    """The three-state iteration with complementarity parameters cn, ct,
+    from `states` (A, T, sign) or else from the contact set `active`; None
+    when the state sets cycle (or do not settle in max_iter)."""
     m = len(jump0)
     coulomb = np.asarray(law.coulomb, bool)
     partner = np.asarray(law.partner, np.int64)
@@ -162,10 +188,13 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
     b0 = np.asarray(law.cohesion_force, float)
     ci = np.flatnonzero(coulomb)
     pi = partner[ci]
-    A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
-    T = np.full(m, OPEN, np.int8)
-    T[ci] = np.where(A[pi], STICK, OPEN)
-    sign = np.zeros(m)
+    if states is not None:
+        A, T, sign = (np.array(x) for x in states)
+    else:
+        A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
+        T = np.full(m, OPEN, np.int8)
+        T[ci] = np.where(A[pi], STICK, OPEN)
+        sign = np.zeros(m)
     seen = {_key(A, T, sign)}
     load = max(np.max(np.abs(target - jump0), initial=0.0), 1e-300)
     for it in range(1, max_iter + 1):
