@@ -23,9 +23,12 @@ With lam = -mu_t the update of a contact pair's state is
 and F from the normal predictor mu_n - c_n (w + g) (Hueber et al.). For a
 state set the equations are linear (in 2D the slip direction is a sign, not
 a unit vector to linearise), so every iteration is one dense solve on the
-pair system; the method stops when the set repeats. A set seen before that
-is not the last one is cycling: then the same problem is solved as a fixed
-point on the friction bound, each a bounded least-squares problem (Tresca
+pair system; the method stops when the set repeats. A pair changes between
+stick and slip only where the law is violated by more than a band of
+round-off (STATE_BAND) on either side of the bound: a pair at the bound
+with a zero increment satisfies both. A set seen before that is not the
+last one is cycling: then the same problem is solved as a fixed point on
+the friction bound, each a bounded least-squares problem (Tresca
 friction with the bound of the last normal forces is a convex quadratic
 program with box bounds), which is how the frictionless solver falls back
 too. With no Coulomb row this is the frictionless solver itself
