@@ -152,7 +152,7 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     ct = 1.0 / np.mean(np.abs(np.diag(S)[coulomb]))
 
     history = []
-    if start is not None and start.state is not None and len(start.mu) == len(jump0):
+    if getattr(start, "state", None) is not None and len(start.mu) == len(jump0):
         res = _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history,
                           states=_start_states(start, normal, law))
         if res is not None:
