@@ -23,9 +23,12 @@ With lam = -mu_t the update of a contact pair's state is
 and F from the normal predictor mu_n - c_n (w + g) (Hueber et al.). For a
 state set the equations are linear (in 2D the slip direction is a sign, not
 a unit vector to linearise), so every iteration is one dense solve on the
-pair system; the method stops when the set repeats. A set seen before that
-is not the last one is cycling: then the same problem is solved as a fixed
-point on the friction bound, each a bounded least-squares problem (Tresca
+pair system; the method stops when the set repeats. A pair changes between
+stick and slip only where the law is violated by more than a band of
+round-off (STATE_BAND) on either side of the bound: a pair at the bound
+with a zero increment satisfies both. A set seen before that is not the
+last one is cycling: then the same problem is solved as a fixed point on
+the friction bound, each a bounded least-squares problem (Tresca
 friction with the bound of the last normal forces is a convex quadratic
 program with box bounds), which is how the frictionless solver falls back
 too. With no Coulomb row this is the frictionless solver itself
@@ -56,6 +59,13 @@ FIXED_POINT_RTOL = 1e-13
 SCALINGS = (1.0, 10.0, 0.1, 100.0, 0.01)
 #: a closed pair whose tangential force is within this (relative) of the bound is at it: it slips
 BOUND_RTOL = 1e-9
+#: the iteration's band round the bound (relative to the largest force): a sticking pair slips when its
+#: force is above the bound by more, a slipping one sticks when its increment turns back by more (times
+#: c_t). A pair at the bound with a zero increment (the last trials of a critical-load search, a hair above
+#: the load of their reference) satisfies both states to round-off; a one-sided band made such pairs
+#: alternate, each slip pushing a neighbour over the bound by ~1e-11 and its own increment staying below
+#: the band, and the sets cycled under every scaling (the stimulation network, 406 pairs).
+STATE_BAND = 1e-12
 #: residual of the linear equations, relative to the load scale, a converged set must reach
 RESIDUAL_RTOL = 1e-10
 
@@ -118,12 +128,17 @@ class FrictionResult(ActiveSetResult):
         }
 
 
-def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100, active=None):
+def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100, active=None,
+                   start: FrictionResult | None = None):
     """The contact problem with Coulomb rows. target: -g on normal rows, the
     prescribed slip on prescribed tangential rows, the reference slip s_ref
     on Coulomb rows; active: the normal rows to start in contact (default:
-    those penetrating without contact forces). Without Coulomb rows, the
-    frictionless active set."""
+    those penetrating without contact forces); start: a result on the same
+    rows (the last solve) whose states the iteration starts from: the trials
+    of a critical-load search differ by little and their state sets mostly
+    repeat. The answer is that of the state set the iteration ends on, not
+    of where it started; a start that does not settle is dropped. Without
+    Coulomb rows, the frictionless active set."""
     S = np.asarray(S, float)
     jump0 = np.asarray(jump0, float)
     target = np.asarray(target, float)
@@ -137,6 +152,11 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     ct = 1.0 / np.mean(np.abs(np.diag(S)[coulomb]))
 
     history = []
+    if getattr(start, "state", None) is not None and len(start.mu) == len(jump0):
+        res = _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history,
+                          states=_start_states(start, normal, law))
+        if res is not None:
+            return res
     for scale in SCALINGS:
         res = _active_set(S, jump0, target, normal, prescribed, law, cn * scale, ct * scale, max_iter, history,
                           active)
@@ -145,9 +165,25 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     return fixed_point_solve(S, jump0, target, normal, prescribed, law, history)
 
 
-def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history, active=None):
-    """The three-state iteration with complementarity parameters cn, ct;
-    None when the state sets cycle (or do not settle in max_iter)."""
+def _start_states(start: FrictionResult, normal, law) -> tuple:
+    """(A, T, sign) of the iteration from a result: its closed normal rows,
+    its pairs' states, a slip against its tangential force (a pair at the
+    bound without force, F = 0, starts sticking)."""
+    A = normal & np.asarray(start.active, bool)
+    ci = np.flatnonzero(law.coulomb)
+    T = np.full(len(A), OPEN, np.int8)
+    sign = np.zeros(len(A))
+    s = np.sign(-start.mu[ci])
+    slip = (start.state[ci] == SLIP) & (s != 0)
+    T[ci] = np.where(A[law.partner[ci]], np.where(slip, SLIP, STICK), OPEN)
+    sign[ci] = np.where(T[ci] == SLIP, s, 0.0)
+    return A, T, sign
+
+
+def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history, active=None, states=None):
+    """The three-state iteration with complementarity parameters cn, ct,
+    from `states` (A, T, sign) or else from the contact set `active`; None
+    when the state sets cycle (or do not settle in max_iter)."""
     m = len(jump0)
     coulomb = np.asarray(law.coulomb, bool)
     partner = np.asarray(law.partner, np.int64)
@@ -155,10 +191,13 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
     b0 = np.asarray(law.cohesion_force, float)
     ci = np.flatnonzero(coulomb)
     pi = partner[ci]
-    A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
-    T = np.full(m, OPEN, np.int8)
-    T[ci] = np.where(A[pi], STICK, OPEN)
-    sign = np.zeros(m)
+    if states is not None:
+        A, T, sign = (np.array(x) for x in states)
+    else:
+        A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
+        T = np.full(m, OPEN, np.int8)
+        T[ci] = np.where(A[pi], STICK, OPEN)
+        sign = np.zeros(m)
     seen = {_key(A, T, sign)}
     load = max(np.max(np.abs(target - jump0), initial=0.0), 1e-300)
     for it in range(1, max_iter + 1):
@@ -173,10 +212,17 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
         sign_new = np.zeros(m)
         F = b0[ci] + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
         z = -mu[ci] + ct * (jump[ci] - target[ci])
-        zscale = max(np.max(np.abs(mu), initial=0.0), 1e-300)
-        slipping = np.abs(z) > F + 1e-12 * zscale
+        band = STATE_BAND * max(np.max(np.abs(mu), initial=0.0), 1e-300)
+        slipping = np.abs(z) > F + band
+        direction = np.sign(z)
+        # a slipping pair sticks again only when its increment turns against its direction by more than the
+        # band, as a sticking one slips only above the bound by more than it (see STATE_BAND)
+        was = T[ci] == SLIP
+        keep = was & (sign[ci] * ct * (jump[ci] - target[ci]) >= -band)
+        slipping = np.where(was, keep | slipping, slipping)
+        direction = np.where(keep, sign[ci], direction)
         T_new[ci] = np.where(A_new[pi], np.where(slipping, SLIP, STICK), OPEN)
-        sign_new[ci] = np.where(T_new[ci] == SLIP, np.sign(z), 0.0)
+        sign_new[ci] = np.where(T_new[ci] == SLIP, direction, 0.0)
         if np.array_equal(A_new, A) and np.array_equal(T_new, T) and np.array_equal(sign_new, sign):
             eq = A | prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
