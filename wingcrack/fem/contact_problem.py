@@ -52,7 +52,8 @@ class ContactProblem:
         jump0 = self.op.jumps(p.u.vector.getArray())
         slip = rows.slip * p.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
         target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
-        res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active)
+        res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active,
+                             start=self.result)   # the last solve's states: the search's next trial starts there
         self.op.add_forces(p.u, res.mu)
         self.result = res
         return res
