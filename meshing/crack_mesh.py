@@ -784,6 +784,11 @@ def _grid_field(tri, vals, box, size, path) -> int:
     s = field.add("Structured")
     field.setString(s, "FileName", path)
     field.setNumber(s, "TextFormat", 0)
+    # gmsh 4.8 leaves these two uninitialised: a grid-edge point (the domain's
+    # own boundary lies on the grid's last row) then read garbage, meshes came
+    # out coarse or endlessly fine at random. Set, gmsh clamps to the grid.
+    field.setNumber(s, "SetOutsideValue", 0)
+    field.setNumber(s, "OutsideValue", size)
     return s
 
 
