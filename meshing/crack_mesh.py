@@ -458,6 +458,7 @@ def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_siz
 
 
 _SCRATCH_PREFIX = "wingcrack-sizes-"
+_SCRATCH_STALE = 3600.0
 
 
 @contextlib.contextmanager
@@ -466,14 +467,22 @@ def _scratch():
     (every process and session its own, so parallel runs never share one),
     removed when the session ends. A session killed on timeout (the meshing
     worker is SIGKILLed) cannot remove its own: each session first removes
-    those of processes that are gone (the pid is in the name)."""
+    those of processes that are gone (the pid is in the name) and that are
+    older than _SCRATCH_STALE seconds (a process of another pid namespace
+    sharing /tmp looks gone; gmsh would silently mesh without the grid if
+    its file vanished mid-session)."""
     base = tempfile.gettempdir()
+    now = time.time()
     for name in os.listdir(base):
         if not name.startswith(_SCRATCH_PREFIX):
             continue
-        pid = name[len(_SCRATCH_PREFIX):].split("-", 1)[0]
-        if pid.isdigit() and not _alive(int(pid)):
-            shutil.rmtree(os.path.join(base, name), ignore_errors=True)
+        pid, path = name[len(_SCRATCH_PREFIX):].split("-", 1)[0], os.path.join(base, name)
+        try:
+            aged = now - os.stat(path).st_mtime > _SCRATCH_STALE
+        except OSError:
+            continue
+        if aged and pid.isdigit() and not _alive(int(pid)):
+            shutil.rmtree(path, ignore_errors=True)
     with tempfile.TemporaryDirectory(prefix=f"{_SCRATCH_PREFIX}{os.getpid()}-") as path:
         yield path
 

@@ -126,17 +126,20 @@ def _scratch_dirs(pid):
 def test_the_grid_file_is_removed_and_stale_ones_swept():
     """The grid is written into a directory of the gmsh session's own, removed
     with the session, also in the meshing worker (timeout given); one left by
-    a process that died (a worker killed on timeout) is removed by the next
-    session."""
+    a process that died (a worker killed on timeout) an hour ago is removed
+    by the next session."""
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
                           text=True, check=True)
     stale = tempfile.mkdtemp(prefix=f"wingcrack-sizes-{int(dead.stdout)}-")
+    recent = tempfile.mkdtemp(prefix=f"wingcrack-sizes-{int(dead.stdout)}-")
     open(os.path.join(stale, "sizes.bin"), "wb").close()
+    os.utime(stale, (0.0, 0.0))      # long ago: swept; `recent` may be a live session's of another namespace
     domain = Domain("rectangle", corner=[0.0, 0.0], size=[1.0, 1.0])
     tri = np.array([[[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 1], [0, 1]]], float)
     for timeout in (None, 60.0):
         crack_mesh(domain, [], [], size=0.2, tip_size=0.01, sizes=(tri, np.full((2, 3), 0.1)), timeout=timeout)
     from meshing import worker
 
-    assert not os.path.exists(stale)
+    assert not os.path.exists(stale) and os.path.isdir(recent)
+    os.rmdir(recent)
     assert _scratch_dirs(os.getpid()) == [] and _scratch_dirs(worker._worker.proc.pid) == []
