@@ -777,13 +777,7 @@ def _grid_field(tri, vals, box, size, path) -> int:
     import gmsh
     import wingcrack_kernels as _kernels
 
-    lo, hi = (np.asarray(b, dtype=np.float64) for b in box)
-    extent = hi - lo
-    step = max(GRID_SPACING * float(vals.min()), math.sqrt(float(np.prod(extent)) / GRID_MAX_NODES))
-    counts = np.ceil(extent / step).astype(np.int64) + 1
-    while counts.prod() > GRID_MAX_NODES:  # the +1 nodes of a thin domain
-        step *= 1.05
-        counts = np.ceil(extent / step).astype(np.int64) + 1
+    lo, step, counts = _grid(box, float(vals.min()))
     grid = _kernels.rasterise_p1(tri, vals, lo, [step, step], counts, size)
     with open(path, "wb") as out:  # gmsh's binary Structured format, one z layer
         out.write(np.array([lo[0], lo[1], 0.0, step, step, 1.0]).tobytes())
@@ -799,6 +793,19 @@ def _grid_field(tri, vals, box, size, path) -> int:
     field.setNumber(s, "SetOutsideValue", 0)
     field.setNumber(s, "OutsideValue", size)
     return s
+
+
+def _grid(box, smallest: float) -> tuple[np.ndarray, float, np.ndarray]:
+    """(origin, step, counts (2,)) of the size grid over box = (lo, hi): step
+    GRID_SPACING * smallest, coarser where that would exceed GRID_MAX_NODES."""
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in box)
+    extent = hi - lo
+    step = max(GRID_SPACING * smallest, math.sqrt(float(np.prod(extent)) / GRID_MAX_NODES))
+    counts = np.ceil(extent / step).astype(np.int64) + 1
+    while counts.prod() > GRID_MAX_NODES:  # the +1 nodes of a thin domain
+        step *= 1.05
+        counts = np.ceil(extent / step).astype(np.int64) + 1
+    return lo, step, counts
 
 
 def _box(domain: Domain) -> tuple[np.ndarray, np.ndarray]:

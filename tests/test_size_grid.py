@@ -118,6 +118,24 @@ def test_the_mesh_honours_a_graded_size_field():
     assert bound.sum() > 100 and 0.8 < np.median(ratio[bound]) < 1.15
 
 
+def test_the_grid_is_half_the_smallest_size_and_capped():
+    """The grid covers the box at half the smallest size; a huge box or a tiny
+    size (and a thin box, where the +1 nodes of the short side count) is
+    coarsened to at most GRID_MAX_NODES nodes instead."""
+    import sys
+
+    cm = sys.modules["meshing.crack_mesh"]
+    lo, step, counts = cm._grid((np.array([-0.042, -0.042]), np.array([0.042, 0.042])), 0.0005)
+    assert step == 0.5 * 0.0005 and counts.tolist() == [337, 337] and np.all(lo == -0.042)
+    assert np.all(lo + (counts - 1) * step >= 0.042)
+    for box, smallest in [((np.zeros(2), np.array([1e3, 1e3])), 1e-4),
+                          ((np.zeros(2), np.array([1e3, 1e-3])), 1e-7),
+                          ((np.zeros(2), np.array([1.0, 1.0])), 1e-5)]:
+        lo, step, counts = cm._grid(box, smallest)
+        assert counts.prod() <= cm.GRID_MAX_NODES and np.all(lo + (counts - 1) * step >= box[1])
+        assert counts.prod() > 0.5 * cm.GRID_MAX_NODES   # coarsened no more than needed
+
+
 def _scratch_dirs(pid):
     prefix = f"wingcrack-sizes-{pid}-"
     return [d for d in os.listdir(tempfile.gettempdir()) if d.startswith(prefix)]
