@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from meshing import worker
+from processes import alive
 from meshing.timeout import MeshTimeout, call_with_timeout
 
 
@@ -51,12 +52,3 @@ def test_the_worker_dies_with_its_caller():
             return
         time.sleep(0.1)
     raise AssertionError(f"worker {pid} outlived its caller")
-
-
-def alive(pid) -> bool:
-    """Running (a zombie waiting for a reaper that may never come is dead)."""
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except FileNotFoundError:
-        return False

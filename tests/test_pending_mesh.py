@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from builders import square_plate_with_cracks
+from processes import alive
 from meshing import worker
 from meshing.crack_mesh import crack_mesh, start_crack_mesh
 from meshing.domain import Domain
@@ -240,15 +241,6 @@ def test_a_run_stopped_while_the_next_mesh_is_made_leaves_no_call_behind(monkeyp
     assert worker._outstanding is None and not alive(seen["pid"])
     monkeypatch.setattr(step, "finish", real)
     assert len(loop.run(plate_case(2)).steps) == 2   # and the next run meshes with a new worker
-
-
-def alive(pid) -> bool:
-    """Running (a zombie waiting for a reaper that may never come is dead)."""
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except FileNotFoundError:
-        return False
 
 
 # -- summary.json and the checkpoint, rewritten after every step at the cost of that step --------------
