@@ -821,7 +821,7 @@ def _grid_field(tri, vals, box, size, path) -> int:
     import gmsh
     import wingcrack_kernels as _kernels
 
-    lo, step, counts = _grid(box, float(vals.min()))
+    lo, step, counts = _grid(_binding_box(tri, vals, box, size), float(vals.min()))
     grid = _kernels.rasterise_p1(tri, vals, lo, [step, step], counts, size)
     with open(path, "wb") as out:  # gmsh's binary Structured format, one z layer
         out.write(np.array([lo[0], lo[1], 0.0, step, step, 1.0]).tobytes())
@@ -831,24 +831,48 @@ def _grid_field(tri, vals, box, size, path) -> int:
     s = field.add("Structured")
     field.setString(s, "FileName", path)
     field.setNumber(s, "TextFormat", 0)
-    # gmsh 4.8 leaves these two uninitialised: a grid-edge point (the domain's
-    # own boundary lies on the grid's last row) then read garbage, meshes came
-    # out coarse or endlessly fine at random. Set, gmsh clamps to the grid.
-    field.setNumber(s, "SetOutsideValue", 0)
+    # gmsh 4.8 leaves these two uninitialised (a point outside the grid then
+    # read garbage: meshes came out coarse or endlessly fine at random). The
+    # grid covers where the field binds (_binding_box); outside it the field is
+    # `size`, which bounds nothing (MeshSizeMax).
+    field.setNumber(s, "SetOutsideValue", 1)
     field.setNumber(s, "OutsideValue", size)
     return s
 
 
+def _binding_box(tri, vals, box, size) -> tuple[np.ndarray, np.ndarray]:
+    """The part of `box` where the P1 field (tri, vals) asks for less than
+    `size`: the bounding box of the cells with a value below it, widened by
+    a tenth of its extent and by the largest of those cells (so that the
+    grid's last rows lie where the field is `size` or are sampled from the
+    cells themselves), within `box`. Elsewhere the field is at least
+    `size` and bounds nothing: on a domain much larger than its cracks
+    (a plate 1000 tip sizes across) the grid shrinks to the cracks'
+    neighbourhood instead of spanning the domain at the smallest size."""
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in box)
+    binding = tri[vals.min(axis=1) < size]
+    if not len(binding):
+        return lo, hi
+    pts = binding.reshape(-1, 2)
+    b_lo, b_hi = pts.min(axis=0), pts.max(axis=0)
+    cell = float(np.max(binding.max(axis=1) - binding.min(axis=1)))
+    pad = 0.1 * float(np.max(b_hi - b_lo)) + cell
+    return np.maximum(lo, b_lo - pad), np.minimum(hi, b_hi + pad)
+
+
 def _grid(box, smallest: float) -> tuple[np.ndarray, float, np.ndarray]:
-    """(origin, step, counts (2,)) of the size grid over box = (lo, hi): step
-    GRID_SPACING * smallest, coarser where that would exceed GRID_MAX_NODES."""
+    """(origin, step, counts (2,)) of the size grid over box = (lo, hi), its
+    last node beyond hi: step GRID_SPACING * smallest, coarser where that
+    would exceed GRID_MAX_NODES."""
     lo, hi = (np.asarray(b, dtype=np.float64) for b in box)
     extent = hi - lo
     step = max(GRID_SPACING * smallest, math.sqrt(float(np.prod(extent)) / GRID_MAX_NODES))
-    counts = np.ceil(extent / step).astype(np.int64) + 1
-    while counts.prod() > GRID_MAX_NODES:  # the +1 nodes of a thin domain
+    # the last node strictly beyond hi: gmsh takes a point on the last node
+    # (the domain's own boundary) as outside the grid
+    counts = np.floor(extent / step).astype(np.int64) + 2
+    while counts.prod() > GRID_MAX_NODES:  # the +2 nodes of a thin domain
         step *= 1.05
-        counts = np.ceil(extent / step).astype(np.int64) + 1
+        counts = np.floor(extent / step).astype(np.int64) + 2
     return lo, step, counts
 
 
