@@ -210,3 +210,45 @@ def test_only_rank_0_starts_a_drawing_process(monkeypatch):
     monkeypatch.setattr(parallel, "world_rank", lambda: 0)
     drawing.start()
     assert drawing._running()
+
+
+@pytest.mark.parametrize("blocked", [False, True])
+def test_a_failed_run_draws_its_finished_steps_in_the_worker(tmp_path, monkeypatch, calls, blocked):
+    """A run that fails in its second step: its pictures (of step 0) drawn
+    in the worker, as `wingcrack plot` draws them here; fractures.png that
+    cannot be written: the ComputationError says "pictures not drawn" with
+    the message drawn here gives."""
+    from wingcrack import step
+
+    real = step.discretise
+    seen = []
+
+    def fails_second(case, fractures, timer, **kw):
+        seen.append(1)
+        if len(seen) == 2:
+            if blocked:
+                (out / "fractures.png").mkdir()
+            raise wingcrack.ComputationError("contact did not converge (simulated)")
+        return real(case, fractures, timer, **kw)
+
+    monkeypatch.setattr(step, "discretise", fails_second)
+    out = tmp_path / "run"
+    with pytest.raises(wingcrack.ComputationError) as err:
+        wingcrack.run(plate(3), out=out)
+    assert [name for name, _ in calls] == ["_plot_answer"]
+    saved = json.loads((out / "summary.json").read_text())
+    assert saved["status"].startswith("failed: step 1") and len(saved["steps"]) == 1
+    if blocked:
+        with pytest.raises(Exception) as here:
+            api.plot(out, history=True, animation=True)
+        assert str(err.value) == f"{saved['status']} (pictures not drawn: {' '.join(str(here.value).split())})"
+        assert "IsADirectoryError" not in str(err.value) and "Is a directory" in str(err.value)
+        return
+    assert str(err.value) == saved["status"]
+    worker = tmp_path / "worker"
+    shutil.copytree(out, worker)
+    drawn = api.plot(out, history=True, animation=True)   # a second time, here
+    assert {k: v.name for k, v in drawn.items()} == {"picture": "fractures.png", "history": "history.png",
+                                                   "animation": drawn["animation"].name}
+    for path in drawn.values():
+        assert same_pixels(worker / path.name, path), path.name
