@@ -90,7 +90,9 @@ class _Worker:
 
     def receive(self, deadline: float, timeout: float):
         fd = self.proc.stdout.fileno()
-        data, need = b"", None
+        # a bytearray grows in place: bytes += chunk copies all so far, and a
+        # pipe gives 64 KiB at a time, quadratic in a large answer
+        data, need = bytearray(), None
         while need is None or len(data) < need:
             left = deadline - time.monotonic()
             if left <= 0:
@@ -104,7 +106,7 @@ class _Worker:
             data += chunk
             if need is None and len(data) >= _HEADER.size:
                 need = _HEADER.size + _HEADER.unpack(data[:_HEADER.size])[0]
-        return pickle.loads(data[_HEADER.size:need])
+        return pickle.loads(memoryview(data)[_HEADER.size:need])
 
 
 class Call:
