@@ -277,3 +277,49 @@ def test_a_large_answer_comes_back_in_linear_time():
         assert seconds[1] < 25 * seconds[0] + 0.5, seconds
     finally:
         channel.shutdown()
+
+
+@pytest.mark.parametrize("fault", [None, "dead", "ctrl-c"])
+def test_a_long_animation_is_drawn_in_two_processes_as_here(tmp_path, monkeypatch, fault):
+    """The GIF of a run of SPLIT_FRAMES steps or more: its frames drawn in
+    both drawing processes (both get some: the first's share of the other
+    pictures set to none), assembled here, byte for byte the file drawn in
+    one process. The second process dead while drawing: all drawn here, the
+    same files, no warning. Ctrl-C while waiting: both processes killed."""
+    import threading
+
+    from meshing.worker import Channel
+
+    monkeypatch.setattr(drawing, "PICTURES_AS_FRAMES", 0)
+    real = Channel.send
+    sent = []
+
+    def send(self, fn, args, timeout):
+        call = real(self, fn, args, timeout)
+        if self.name == "drawing":
+            sent.append((fn.__name__, args[-1] if fn.__name__ != "_draw_pictures" else None, call._worker.proc))
+            if fault == "dead" and fn.__name__ == "_frames":
+                os.kill(call._worker.proc.pid, signal.SIGKILL)
+            if fault == "ctrl-c" and fn.__name__ == "_pictures_and_frames":
+                threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT)).start()
+        return call
+
+    monkeypatch.setattr(Channel, "send", send)
+    out = tmp_path / "run"
+    if fault == "ctrl-c":
+        with pytest.raises(KeyboardInterrupt):
+            wingcrack.run(plate(8), out=out)
+        assert json.loads((out / "summary.json").read_text())["status"] == "stopped: interrupted"
+        assert len(sent) == 2 and all(proc.poll() is not None for _, _, proc in sent)
+        return
+    r = wingcrack.run(plate(8), out=out)
+    assert r.status == "finished" and len(r.steps) == 8 and "warnings" not in r.summary
+    assert [(name, list(frames)) for name, frames, _ in sent] == [("_frames", [4, 5, 6, 7]),
+                                                                   ("_pictures_and_frames", [0, 1, 2, 3])]
+    here, files, warnings = redrawn_here(out, tmp_path, True, True)
+    assert not warnings and {k: v.name for k, v in r.files.items() if k in files} == \
+        {k: v.name for k, v in files.items()} == {"picture": "fractures.png", "history": "history.png",
+                                                  "animation": "growth.gif"}
+    assert (out / "growth.gif").read_bytes() == (here / "growth.gif").read_bytes()
+    for name in ("fractures.png", "history.png"):
+        assert same_pixels(out / name, here / name), name
