@@ -8,6 +8,13 @@ the pickled result from its stdout (Call.result), so the caller may do other
 work in between; one call at a time is outstanding. On timeout, Ctrl-C or
 any error on the way, and for a call that is abandoned, the worker is
 killed, and the next call starts a new one.
+
+The module-level functions (start, send, call) are the meshing worker's,
+which imports gmsh before its first request. A Channel is another such
+worker under its own name, which imports its own `preload` first
+("module" or "module:function", the function then called), e.g. the
+drawing process of wingcrack's pictures: the worker runs whatever function
+it is sent, and never imports anything of its caller's but that and fn.
 """
 from __future__ import annotations
 
@@ -53,11 +60,12 @@ def _no_sigpipe():
 
 
 class _Worker:
-    def __init__(self):
+    def __init__(self, channel: Channel):
+        self.channel = channel
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
-        self.proc = subprocess.Popen([sys.executable, "-m", "meshing.worker"], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, start_new_session=True, env=env)
+        self.proc = subprocess.Popen([sys.executable, "-m", "meshing.worker", channel.preload],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, start_new_session=True, env=env)
 
     def alive(self) -> bool:
         return self.proc.poll() is None
@@ -82,121 +90,164 @@ class _Worker:
 
     def receive(self, deadline: float, timeout: float):
         fd = self.proc.stdout.fileno()
-        data, need = b"", None
+        # a bytearray grows in place: bytes += chunk copies all so far, and a
+        # pipe gives 64 KiB at a time, quadratic in a large answer
+        data, need = bytearray(), None
         while need is None or len(data) < need:
             left = deadline - time.monotonic()
             if left <= 0:
-                raise WorkerTimeout(f"gmsh did not finish within {timeout:g} s")
+                raise WorkerTimeout(f"{self.channel.what} did not finish within {timeout:g} s")
             ready, _, _ = select.select([fd], [], [], min(left, 1.0))
             if not ready:
                 continue
             chunk = os.read(fd, 1 << 20)
             if not chunk:
-                raise RuntimeError("the meshing process died without a result")
+                raise RuntimeError(f"the {self.channel.name} process died without a result")
             data += chunk
             if need is None and len(data) >= _HEADER.size:
                 need = _HEADER.size + _HEADER.unpack(data[:_HEADER.size])[0]
-        return pickle.loads(data[_HEADER.size:need])
-
-
-_worker: _Worker | None = None
-#: the call sent and not yet answered (one at most): its answer is the next on the worker's stdout
-_outstanding: Call | None = None
+        return pickle.loads(memoryview(data)[_HEADER.size:need])
 
 
 class Call:
-    """A call sent to the worker: result() waits for its answer. Its time
+    """A call sent to a worker: result() waits for its answer. Its time
     limit runs from the moment it was sent. A call that is not collected
     (cancel(), a new call sent, the caller's exit) kills the worker, so that
     no unread answer is left for the next call, which starts a new one."""
 
     def __init__(self, worker: _Worker, timeout: float):
         self._worker, self.timeout = worker, timeout
+        self._channel = worker.channel
         self.deadline = time.monotonic() + timeout
         self.seconds = None   # the worker's own time for fn, once answered
 
     def result(self):
         """fn(*args) as the worker answered it; WorkerTimeout past the time
         limit, RuntimeError with the message of an exception in the worker."""
-        global _outstanding
-        if _outstanding is not self:
-            raise RuntimeError("this meshing call was abandoned (another call was sent, or it was cancelled)")
+        channel = self._channel
+        if channel._outstanding is not self:
+            raise RuntimeError(f"this {channel.name} call was abandoned (another call was sent, or it was cancelled)")
         done = False
         try:
             kind, value, self.seconds = self._worker.receive(self.deadline, self.timeout)
             done = True
         finally:
-            _outstanding = None
+            channel._outstanding = None
             if not done:   # timeout, Ctrl-C, a dead worker: never leave a half-read answer behind
-                _kill(self._worker)
+                channel._kill(self._worker)
         if kind == "error":
             raise RuntimeError(value)
         return value
 
     def cancel(self) -> None:
         """Abandon the call if it is still outstanding (the worker is killed)."""
-        global _outstanding
-        if _outstanding is self:
-            _outstanding = None
-            _kill(self._worker)
+        channel = self._channel
+        if channel._outstanding is self:
+            channel._outstanding = None
+            channel._kill(self._worker)
 
 
-def _kill(w: _Worker) -> None:
-    global _worker
-    w.kill()
-    if _worker is w:
-        _worker = None
+class Channel:
+    """One named long-lived worker (started at the first start() or send())
+    and its outstanding call: `name` says it in errors ("the <name> process
+    died"), `what` in a timeout ("<what> did not finish"), `preload` is
+    imported by the worker before its first request."""
+
+    def __init__(self, name: str, preload: str, what: str | None = None):
+        self.name, self.preload, self.what = name, preload, what or name
+        self._worker: _Worker | None = None
+        #: the call sent and not yet answered (one at most): its answer is the next on the worker's stdout
+        self._outstanding: Call | None = None
+        _channels.append(self)
+
+    def _kill(self, w: _Worker) -> None:
+        w.kill()
+        if self._worker is w:
+            self._worker = None
+
+    def start(self) -> None:
+        """Start the worker now if none is running, without waiting for it:
+        its start-up (the preload's import) overlaps the caller's own until
+        the first call."""
+        if self._worker is None or not self._worker.alive():
+            self._worker = _Worker(self)
+
+    def send(self, fn, args: tuple, timeout: float) -> Call:
+        """Send fn(*args) to the worker and return at once; Call.result()
+        waits for it, within `timeout` seconds of now. A call still
+        outstanding is abandoned first (see Call). fn must be picklable by
+        reference (a module-level function); NotPicklable at once when it
+        is not."""
+        try:
+            payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
+        except (pickle.PicklingError, AttributeError, TypeError) as error:
+            raise NotPicklable(str(error)) from None
+        if self._outstanding is not None:
+            self._outstanding.cancel()
+        for _ in range(2):   # a worker that died after its last answer (not yet seen dead): once more, a new one
+            self.start()
+            w = self._worker
+            sent = False
+            try:
+                w.send(payload)
+                sent = True
+            except BrokenPipeError:
+                pass
+            finally:
+                if not sent:   # a dead worker, or Ctrl-C half-way through the request
+                    self._kill(w)
+            if sent:
+                self._outstanding = Call(w, timeout)
+                return self._outstanding
+        raise RuntimeError(f"the {self.name} process died before it took the request")
+
+    def call(self, fn, args: tuple, timeout: float):
+        """fn(*args) in the worker, within `timeout` seconds (send + result)."""
+        try:
+            return self.send(fn, args, timeout).result()
+        except BaseException:   # Ctrl-C between send and result: no call is left running
+            if self._outstanding is not None:
+                self._outstanding.cancel()
+            raise
+
+    def shutdown(self) -> None:
+        """Kill the worker (an outstanding call is abandoned)."""
+        self._outstanding = None
+        if self._worker is not None:
+            self._worker.kill()
+            self._worker = None
+
+
+_channels: list[Channel] = []
+_MESHING = Channel("meshing", "gmsh", what="gmsh")
+
+
+def __getattr__(name):
+    if name in ("_worker", "_outstanding"):   # the meshing worker's, as before there were channels
+        return getattr(_MESHING, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def start() -> None:
-    """Start the worker now if none is running, without waiting for it: its
-    start-up (the gmsh import) overlaps the caller's own until the first call."""
-    global _worker
-    if _worker is None or not _worker.alive():
-        _worker = _Worker()
+    """Start the meshing worker now if none is running, without waiting for
+    it: its start-up (the gmsh import) overlaps the caller's own until the
+    first call."""
+    _MESHING.start()
 
 
 def send(fn, args: tuple, timeout: float) -> Call:
-    """Send fn(*args) to the worker and return at once; Call.result() waits
-    for it, within `timeout` seconds of now. A call still outstanding is
-    abandoned first (see Call). fn must be picklable by reference (a
-    module-level function); NotPicklable at once when it is not."""
-    global _outstanding
-    try:
-        payload = pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
-    except (pickle.PicklingError, AttributeError, TypeError) as error:
-        raise NotPicklable(str(error)) from None
-    if _outstanding is not None:
-        _outstanding.cancel()
-    for _ in range(2):   # a worker that died after its last answer (not yet seen dead): once more, a new one
-        start()
-        w = _worker
-        sent = False
-        try:
-            w.send(payload)
-            sent = True
-        except BrokenPipeError:
-            pass
-        finally:
-            if not sent:   # a dead worker, or Ctrl-C half-way through the request
-                _kill(w)
-        if sent:
-            _outstanding = Call(w, timeout)
-            return _outstanding
-    raise RuntimeError("the meshing process died before it took the request")
+    """Send fn(*args) to the meshing worker and return at once (Channel.send)."""
+    return _MESHING.send(fn, args, timeout)
 
 
 def call(fn, args: tuple, timeout: float):
-    """fn(*args) in the worker, within `timeout` seconds (send + result)."""
-    return send(fn, args, timeout).result()
+    """fn(*args) in the meshing worker, within `timeout` seconds (send + result)."""
+    return _MESHING.call(fn, args, timeout)
 
 
 def _shutdown() -> None:
-    global _worker, _outstanding
-    _outstanding = None
-    if _worker is not None:
-        _worker.kill()
-        _worker = None
+    for channel in _channels:
+        channel.shutdown()
 
 
 atexit.register(_shutdown)
@@ -212,7 +263,16 @@ def _read_exactly(stream, n: int) -> bytes:
     return data
 
 
-def main() -> None:
+def _preload(spec: str) -> None:
+    import importlib
+
+    module, _, function = spec.partition(":")
+    loaded = importlib.import_module(module)
+    if function:
+        getattr(loaded, function)()
+
+
+def main(preload: str = "gmsh") -> None:
     """The worker's loop: one pickled (fn, args) in, one pickled result out."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
@@ -224,7 +284,7 @@ def main() -> None:
     answers = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)   # whatever gmsh or Python prints must not enter the answers
     requests = sys.stdin.buffer
-    import gmsh  # noqa: F401 - loaded once, before the first request
+    _preload(preload)   # loaded once, before the first request
 
     while True:
         header = _read_exactly(requests, _HEADER.size)
@@ -245,4 +305,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:2])

@@ -180,7 +180,7 @@ def test_a_picture_that_fails_is_a_warning_not_a_failure(tmp_path, monkeypatch, 
     overflow). Exit 0, status "finished", every data file written and
     readable, the other pictures drawn, the failure in summary.json's
     "warnings" and once on stderr."""
-    from wingcrack import cli
+    from wingcrack import cli, drawing
     from wingcrack.io import pictures
     from wingcrack.io.outdir import read_result
 
@@ -188,6 +188,7 @@ def test_a_picture_that_fails_is_a_warning_not_a_failure(tmp_path, monkeypatch, 
         raise ValueError("Image size of 60000000x600 pixels is too large (simulated)")
 
     monkeypatch.setattr(pictures, "fractures_of_result", broken)
+    monkeypatch.setattr(drawing, "_running", lambda: False)   # drawn here, where the failure is simulated
     path = tmp_path / "plate.toml"
     path.write_text(PLATE_TOML)
     out = tmp_path / "out"
@@ -214,6 +215,7 @@ def test_ctrl_c_while_the_pictures_are_drawn(tmp_path, monkeypatch, command):
     import os
     import signal
 
+    from wingcrack import drawing
     from wingcrack.io import pictures
 
     real = pictures.fractures_of_result
@@ -225,6 +227,7 @@ def test_ctrl_c_while_the_pictures_are_drawn(tmp_path, monkeypatch, command):
         return real(path, result)
 
     monkeypatch.setattr(pictures, "fractures_of_result", interrupted)
+    monkeypatch.setattr(drawing, "_running", lambda: False)   # drawn here, where the Ctrl-C is simulated
     out = tmp_path / "out"
     case = plate(2)
     with pytest.raises(KeyboardInterrupt):

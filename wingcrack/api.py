@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import step
+from . import drawing, step
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -101,6 +101,8 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     if out is not None:
         _folder_name(out)
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
+    if out is not None:
+        drawing.start()   # matplotlib's import, too, while the case computes
     with _folder_lock(out, create=True):
         return _sif(case, out, force)
 
@@ -177,6 +179,8 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
     if out is not None:
         _folder_name(out)
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
+    if out is not None:   # matplotlib's import, too, while the case computes
+        drawing.start(frames=case.propagation.steps if plots else 0)
     with _folder_lock(out, create=not resume):
         return _run(case, out, progress, plots, force, resume)
 
@@ -247,7 +251,7 @@ def _run(case, out, progress, plots, force, resume):
     except ComputationError as err:
         if draw:
             try:
-                plot(out, history=plots, animation=plots)
+                drawing.plot(out, history=plots, animation=plots)
             except Exception as e:  # noqa: BLE001 - the computation's failure is the news
                 raise ComputationError(f"{err} (pictures not drawn: {' '.join(str(e).split())})") from None
         raise
@@ -277,15 +281,22 @@ def _no_checkpoint(out) -> str | None:
 def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -> list:
     """Draw the pictures of the result in `out` as `summary` describes it
     (adding their paths to `files`) and return a warning for each that could
-    not be drawn: a picture is a view of the data, which are all written."""
+    not be drawn: a picture is a view of the data, which are all written.
+    Drawn in the drawing process (wingcrack/drawing.py) when it runs."""
+    drawn, warnings = drawing.pictures(out, summary, history, animation)
+    files.update(drawn)
+    return warnings
+
+
+def _draw_pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:
+    """({name: path}, warnings) of the pictures drawn here (see _pictures)."""
     warnings = []
     try:
         drawn = plot(out, history=history, animation=animation, summary=summary, failed=warnings)
     except Exception as err:  # noqa: BLE001 - reading the result back failed: no picture at all
         drawn = {}
         warnings.append(_not_drawn("the pictures", err, out))
-    files.update(drawn)
-    return warnings
+    return drawn, warnings
 
 
 def _not_drawn(what: str, err: BaseException, out) -> str:
