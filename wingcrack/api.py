@@ -179,8 +179,8 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
     if out is not None:
         _folder_name(out)
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
-    if out is not None:   # matplotlib's import, too, while the case computes
-        drawing.start(frames=case.propagation.steps if plots else 0)
+    if out is not None:
+        drawing.start()   # matplotlib's import, too, while the case computes
     with _folder_lock(out, create=not resume):
         return _run(case, out, progress, plots, force, resume)
 

@@ -66,26 +66,10 @@ def view_box(frames) -> tuple[np.ndarray, np.ndarray]:
     return np.maximum(lo - pad, lo_mesh), np.minimum(hi + pad, hi_mesh)
 
 
-def assemble_gif(path: Path, size: tuple[int, int], frames: list) -> Path:
-    """Write the GIF of `frames` (RGBA bytes of `size` pixels, as
-    animate_growth(only=...) returns them), as matplotlib's PillowWriter
-    does (its finish()), and return `path`."""
-    from PIL import Image
-
-    images = [Image.frombuffer("RGBA", size, data, "raw", "RGBA", 0, 1) for data in frames]
-    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / FPS), loop=0)
-    return Path(path)
-
-
-def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | None = None,
-                   only: range | None = None):
+def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | None = None) -> Path:
     """Write growth.gif or growth.mp4 (`fmt`, default animation_format())
     into `folder` for `result` (an io.outdir.StoredResult with at least
-    one step) and return its path. only: draw just these frames (GIF) and
-    return ((width, height), [their RGBA bytes]) for assemble_gif instead
-    of writing the file (wingcrack/drawing.py draws a long run's frames in
-    two processes); a frame is the same whichever others are drawn, all on
-    the run's fixed scales and view. drawn: a list that gets, per frame, what
+    one step) and return its path. drawn: a list that gets, per frame, what
     plot_fractures returns: {"faces open" / "faces stick" / "faces slip":
     (k, 3, 2) the face edges banded in that state, read back from the
     figure (only states present), "pressurised": {"lines": (k, 3, 2) the
@@ -120,13 +104,7 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
     ax.set_ylim(lo[1], hi[1])
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    if only is not None:
-        class FramesOnly(animation.PillowWriter):
-            def finish(self):   # its frames kept, as bytes that pickle, instead of a file
-                self.frames = [im.tobytes() for im in self._frames]
-
-        writer = FramesOnly(fps=FPS)
-    elif fmt == "mp4":
+    if fmt == "mp4":
         writer = animation.FFMpegWriter(fps=FPS, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
     else:
         writer = animation.PillowWriter(fps=FPS)
@@ -145,9 +123,7 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
     labels = [t.get_text() for t in legend.get_texts()]
     artists = []
     with writer.saving(fig, str(path), dpi=100):
-        for k, ((fields, faces), step) in enumerate(zip(frames, steps)):
-            if only is not None and k not in only:
-                continue
+        for (fields, faces), step in zip(frames, steps):
             for artist in artists:
                 artist.remove()
             v = np.clip(np.where(np.isfinite(fields.von_mises), fields.von_mises, vmax), vmin, vmax)
@@ -193,6 +169,4 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                 drawn.append(frame)
             writer.grab_frame()
     plt.close(fig)
-    if only is not None:
-        return writer.frame_size, writer.frames
     return path
