@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from propagation import run_case
+from propagation import table_runs
 
 
 #: (frictionless original, its friction version)
@@ -70,16 +70,8 @@ def main(argv=None, runs: dict | None = None) -> None:
         print("\n| case | initiation load factor | kink at step 0 (deg) | tips grown | steps: status | "
               "faces open / stick / slip at step 0 (m) | at the last step (m) | solves per step |")
         print("|---|---|---|---|---|---|---|---|")
-        for pair in PAIRS:
-            for name in pair:
-                if runs is not None and name not in runs:
-                    continue
-                r = runs[name] if runs is not None else run_case(name, base / name)
-                out = r["out"]
-                if r["exit"] not in (0, 1):
-                    print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
-                    continue
-                print(row(name, out), flush=True)
+        for name, r in table_runs([name for pair in PAIRS for name in pair], runs, base):
+            print(row(name, r["out"]), flush=True)
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from propagation import run_case
+from propagation import table_runs
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -109,15 +109,8 @@ def main(argv=None, runs: dict | None = None) -> None:
         print("\n| case | first wings at | kink (deg) | tips grown (from step) | joined (tip -> fracture) | "
               "pressurised at the end | steps: status | solves per step | wall |")
         print("|---|---|---|---|---|---|---|---|---|")
-        for name in names:
-            if runs is not None and name not in runs:
-                continue
-            r = runs[name] if runs is not None else run_case(name, base / name)
-            out = r["out"]
-            if r["exit"] not in (0, 1):
-                print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
-                continue
-            print(row(name, out, r["wall"], 0 if name == "stimulation_network" else 1), flush=True)
+        for name, r in table_runs(names, runs, base):
+            print(row(name, r["out"], r["wall"], 0 if name == "stimulation_network" else 1), flush=True)
 
 
 if __name__ == "__main__":

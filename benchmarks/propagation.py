@@ -38,3 +38,19 @@ def run_case(name: str, out: Path, case: Path | None = None, wingcrack: Path = W
     return {"name": name, "exit": os.waitstatus_to_exitcode(status), "wall": wall,
             "cpu": usage.ru_utime + usage.ru_stime, "peak_mib": usage.ru_maxrss / 1024, "summary": summary, "stderr": err.read_text().strip()[-300:],
             "out": out}
+
+
+def table_runs(names, runs: dict | None, base: Path):
+    """(name, run) for the rows of a case table: each of `names` taken from
+    `runs` ({name: run_case result}, as benchmarks/cases.py made them; a
+    name not among them is left out), or run now into base/name when
+    `runs` is None. A run that crashed (exit neither 0 nor 1) gets its
+    failure row printed here and is not yielded."""
+    for name in names:
+        if runs is not None and name not in runs:
+            continue
+        r = runs[name] if runs is not None else run_case(name, base / name)
+        if r["exit"] not in (0, 1):
+            print(f"| `{name}` | exit {r['exit']}: {r['stderr']} |")
+            continue
+        yield name, r
