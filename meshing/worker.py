@@ -165,11 +165,15 @@ class Channel:
         if self._worker is w:
             self._worker = None
 
+    def running(self) -> bool:
+        """A worker is running (started and not dead)."""
+        return self._worker is not None and self._worker.alive()
+
     def start(self) -> None:
         """Start the worker now if none is running, without waiting for it:
         its start-up (the preload's import) overlaps the caller's own until
         the first call."""
-        if self._worker is None or not self._worker.alive():
+        if not self.running():
             self._worker = _Worker(self)
 
     def send(self, fn, args: tuple, timeout: float) -> Call:
@@ -219,30 +223,25 @@ class Channel:
 
 
 _channels: list[Channel] = []
-_MESHING = Channel("meshing", "gmsh", what="gmsh")
-
-
-def __getattr__(name):
-    if name in ("_worker", "_outstanding"):   # the meshing worker's, as before there were channels
-        return getattr(_MESHING, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+#: the meshing worker
+MESHING = Channel("meshing", "gmsh", what="gmsh")
 
 
 def start() -> None:
     """Start the meshing worker now if none is running, without waiting for
     it: its start-up (the gmsh import) overlaps the caller's own until the
     first call."""
-    _MESHING.start()
+    MESHING.start()
 
 
 def send(fn, args: tuple, timeout: float) -> Call:
     """Send fn(*args) to the meshing worker and return at once (Channel.send)."""
-    return _MESHING.send(fn, args, timeout)
+    return MESHING.send(fn, args, timeout)
 
 
 def call(fn, args: tuple, timeout: float):
     """fn(*args) in the meshing worker, within `timeout` seconds (send + result)."""
-    return _MESHING.call(fn, args, timeout)
+    return MESHING.call(fn, args, timeout)
 
 
 def _shutdown() -> None:

@@ -18,18 +18,18 @@ from meshing.timeout import MeshTimeout, call_with_timeout
 
 def test_results_errors_and_timeouts():
     assert call_with_timeout(np.arange, (5,), 30.0).tolist() == [0, 1, 2, 3, 4]
-    first = worker._worker.proc.pid
+    first = worker.MESHING._worker.proc.pid
     with pytest.raises(RuntimeError, match="ValueError: invalid literal"):
         call_with_timeout(int, ("x",), 30.0)
-    assert worker._worker.proc.pid == first   # an error does not cost the worker
+    assert worker.MESHING._worker.proc.pid == first   # an error does not cost the worker
     t0 = time.perf_counter()
     with pytest.raises(MeshTimeout, match="did not finish within 0.5 s"):
         call_with_timeout(time.sleep, (30,), 0.5)
-    assert time.perf_counter() - t0 < 5 and worker._worker is None
+    assert time.perf_counter() - t0 < 5 and worker.MESHING._worker is None
     assert call_with_timeout(sum, ([1, 2, 3],), 30.0) == 6     # a new worker
-    assert worker._worker.proc.pid != first
+    assert worker.MESHING._worker.proc.pid != first
     # the worker is in its own session: Ctrl-C at the terminal is the caller's alone
-    assert os.getsid(worker._worker.proc.pid) != os.getsid(0)
+    assert os.getsid(worker.MESHING._worker.proc.pid) != os.getsid(0)
 
 
 def test_closures_are_refused_before_anything_runs():
@@ -42,7 +42,7 @@ def test_closures_are_refused_before_anything_runs():
 
 def test_the_worker_dies_with_its_caller():
     code = ("import sys, time; from meshing import worker; worker.call(sum, ([1],), 30); "
-            "print(worker._worker.proc.pid, flush=True); time.sleep(60)")
+            "print(worker.MESHING._worker.proc.pid, flush=True); time.sleep(60)")
     caller = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     pid = int(caller.stdout.readline())
     caller.kill()

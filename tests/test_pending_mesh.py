@@ -67,14 +67,14 @@ def test_the_time_limit_runs_from_the_moment_the_work_is_sent():
     t0 = time.perf_counter()
     with pytest.raises(MeshTimeout, match="within 1 s"):
         pending.result()
-    assert time.perf_counter() - t0 < 0.5 and worker._worker is None
+    assert time.perf_counter() - t0 < 0.5 and worker.MESHING._worker is None
 
 
 def test_an_abandoned_call_kills_the_worker_and_the_next_gets_a_new_one():
     call = worker.send(time.sleep, (30,), 60.0)
     pid = call._worker.proc.pid
     call.cancel()
-    assert not alive(pid) and worker._worker is None
+    assert not alive(pid) and worker.MESHING._worker is None
     with pytest.raises(RuntimeError, match="abandoned"):
         call.result()
     assert worker.call(sum, ([1, 2],), 30.0) == 3
@@ -103,7 +103,7 @@ def test_ctrl_c_while_waiting_kills_the_worker():
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
-    assert not alive(pid) and worker._worker is None and worker._outstanding is None
+    assert not alive(pid) and worker.MESHING._worker is None and worker.MESHING._outstanding is None
     assert worker.call(sum, ([1],), 30.0) == 1
 
 
@@ -230,15 +230,15 @@ def test_a_run_stopped_while_the_next_mesh_is_made_leaves_no_call_behind(monkeyp
     seen = {}
 
     def finish(*args, **kw):
-        seen["call"] = worker._outstanding
-        seen["pid"] = None if worker._worker is None else worker._worker.proc.pid
+        seen["call"] = worker.MESHING._outstanding
+        seen["pid"] = None if worker.MESHING._worker is None else worker.MESHING._worker.proc.pid
         raise KeyboardInterrupt
 
     monkeypatch.setattr(step, "finish", finish)
     with pytest.raises(KeyboardInterrupt):
         loop.run(plate_case(3))
     assert seen["call"] is not None   # step 1's mesh was under way when step 0 was written
-    assert worker._outstanding is None and not alive(seen["pid"])
+    assert worker.MESHING._outstanding is None and not alive(seen["pid"])
     monkeypatch.setattr(step, "finish", real)
     assert len(loop.run(plate_case(2)).steps) == 2   # and the next run meshes with a new worker
 
@@ -288,7 +288,7 @@ def test_a_worker_that_died_between_calls_is_replaced():
     from petsc4py import PETSc  # noqa: F401 - its signal handlers installed
 
     assert worker.call(sum, ([1],), 30.0) == 1
-    dead = worker._worker
+    dead = worker.MESHING._worker
     dead.proc.kill()
     dead.proc.stdout.close()   # its death not yet seen: the request meets a closed pipe or a dead process
     for _ in range(50):
@@ -297,4 +297,4 @@ def test_a_worker_that_died_between_calls_is_replaced():
         time.sleep(0.05)
     dead.proc.poll = lambda: None   # and the check before the send still takes it for alive
     assert worker.call(sum, ([2, 3],), 30.0) == 5
-    assert worker._worker is not dead
+    assert worker.MESHING._worker is not dead

@@ -189,4 +189,4 @@ def test_the_grid_file_is_removed_and_stale_ones_swept():
 
     assert not os.path.exists(stale) and os.path.isdir(recent)
     os.rmdir(recent)
-    assert _scratch_dirs(os.getpid()) == [] and _scratch_dirs(worker._worker.proc.pid) == []
+    assert _scratch_dirs(os.getpid()) == [] and _scratch_dirs(worker.MESHING._worker.proc.pid) == []

@@ -60,8 +60,7 @@ def start() -> None:
 
 
 def _running() -> bool:
-    channel = _channel
-    return channel is not None and channel._worker is not None and channel._worker.alive()
+    return _channel is not None and _channel.running()
 
 
 class NotDrawn(Exception):
