@@ -57,6 +57,16 @@ CRACK_SIZE_IN_TIPS = 2.0
 ON_BOUNDARY = admissibility.REL_TOL
 
 
+def patch_clearance(size: float, tip_size: float) -> float:
+    """PROVISIONAL (s17-core): the room between a patch circle and any fracture."""
+    return 2.0 * size + (size - tip_size) / GRADING
+
+
+def patch_boundary_clearance(size: float, tip_size: float) -> float:
+    """PROVISIONAL (s17-core): the room between a patch circle and the outer boundary."""
+    return 2.0 * size
+
+
 @dataclass
 class TipNodes:
     """The nodes of one crack tip. `upper` is the face on the +y' side of the

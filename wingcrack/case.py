@@ -392,7 +392,9 @@ class MeshOptions:
                           "quarter-point elements sit next to the tip.",
                           rule=f"< `size`, < the shortest fracture segment, >= {MIN_TIP_FRACTION:g} L; its rosette "
                                "must stay clear of the boundary and of other fractures")
-    adaptive: bool = key(True, doc="`run` only: each step's mesh is sized from the previous step's error estimate.")
+    adaptive: bool = key(True, doc="`run` only: each step's mesh is sized from the previous step's error estimate. "
+                         "With `false` the sizes are fixed, and `run` remeshes step after step only a circle around "
+                         "the growing fractures (its patch): outside it the mesh and its factorisation are reused.")
     sectors: int = key(32, range=Range(8, MAX_SECTORS, note=" (32 recommended)"), added=True,
                        doc="Triangles per tip rosette. Displacement correlation's KII error is 2.5 % at 8 sectors, "
                            "0.7 % at 16 and 0.3 % at 32. Use fewer than 16 only for convergence studies.")

@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, fields
 
 #: the mesh statistics a step record keeps (meshing.CrackMesh.stats)
-MESH_STATS = ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried", "symmetric")
+MESH_STATS = ("min_quality", "min_jacobian", "nodes", "tips", "gmsh_retried", "symmetric", "far_field")
 
 
 @dataclass

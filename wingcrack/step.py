@@ -64,6 +64,7 @@ class Discretisation:
     problem: object
     contact: object
     pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
+    far: object = None   # the far field's factorisation it used (fem.far_field.FarField), or None
 
     @property
     def dofs(self) -> int:
@@ -248,19 +249,21 @@ class MeshRequest:
     meshes; collecting is collective (every rank gets the mesh or the error,
     also an error of the start, which is raised there and not before)."""
 
-    def __init__(self, case, fractures, sizes, timeout):
+    def __init__(self, case, fractures, sizes, timeout, patch=None):
         from meshing.crack_mesh import start_crack_mesh
 
         from .parallel import RootPending
 
         self.polylines = [np.asarray(f.points, float).copy() for f in fractures]
         self.sizes = sizes
+        self.patch = patch
         self._pending = RootPending(lambda: start_crack_mesh(
             case.domain, self.polylines, case.bc_points(), case.mesh.size, case.mesh.tip_size,
-            sectors=case.mesh.sectors, sizes=sizes, timeout=timeout))
+            sectors=case.mesh.sectors, sizes=sizes, timeout=timeout,
+            patch=None if patch is None else patch.for_mesher()))
 
-    def is_for(self, polylines, sizes) -> bool:
-        return sizes is self.sizes and len(polylines) == len(self.polylines) and \
+    def is_for(self, polylines, sizes, patch=None) -> bool:
+        return sizes is self.sizes and patch == self.patch and len(polylines) == len(self.polylines) and \
             all(np.array_equal(a, b) for a, b in zip(polylines, self.polylines))
 
     def result(self):
@@ -272,14 +275,15 @@ class MeshRequest:
         self._pending.cancel()
 
 
-def start_mesh(case, fractures, sizes=None, timeout: float | None = MESH_TIMEOUT) -> MeshRequest:
+def start_mesh(case, fractures, sizes=None, timeout: float | None = MESH_TIMEOUT, patch=None) -> MeshRequest:
     """Begin the crack mesh of `fractures` (as discretise would mesh them)
     in the meshing worker and return at once, so that the caller works
     meanwhile (the propagation loop writes the previous step's files);
     discretise(..., mesh=the request) collects it. The time limit runs from
     now. Nothing is raised here: a geometry that cannot be meshed fails
-    where the mesh is collected, as the step it belongs to."""
-    return MeshRequest(case, fractures, sizes, timeout)
+    where the mesh is collected, as the step it belongs to. patch: the
+    run's propagation.patch.Patch (None: the whole body meshed freely)."""
+    return MeshRequest(case, fractures, sizes, timeout, patch)
 
 
 def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
@@ -295,7 +299,7 @@ def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
 
 
 def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT,
-               history=None, mesh: MeshRequest | None = None) -> Discretisation:
+               history=None, mesh: MeshRequest | None = None, patch=None, far=None) -> Discretisation:
     """Mesh `fractures` (anything with .points: case Fracture or
     GrowingFracture) in the case's domain, with the bc points as nodes, in
     the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
@@ -306,17 +310,23 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     (contact.slip_history.SlipHistory), carried to this mesh's Coulomb pairs
     by arc length as the reference of the first increment (None: no slip);
     mesh: the mesh of these fractures and sizes begun by start_mesh (None:
-    begun here)."""
+    begun here); patch: the run's propagation.patch.Patch for the mesh;
+    far: the far field factorised at an earlier step of this patch
+    (fem.far_field.FarField): reused when this mesh's far field is its, else
+    (and when there is none) a new one is factorised where the mesh has a
+    far field; the one used is Discretisation.far (the caller's to destroy
+    when it changes)."""
     polylines = [np.asarray(f.points, float) for f in fractures]
     if mesh is None:   # begun before the imports below, which then overlap gmsh
-        mesh = start_mesh(case, fractures, sizes, timeout)
-    elif not mesh.is_for(polylines, sizes):
+        mesh = start_mesh(case, fractures, sizes, timeout, patch)
+    elif not mesh.is_for(polylines, sizes, patch):
         mesh.cancel()
         raise RuntimeError("the mesh begun for this step is of other fractures or sizes (a bug in the caller)")
     try:
         from .contact.constraints import constraint_rows
         from .fem.contact_problem import ContactProblem
         from .fem.elasticity import ElasticProblem
+        from .fem.far_field import FarField
         from .fem.mesh import to_dolfinx
         from .fem.pair_operator import PairOperator
         from .free_pieces import describe, free_pieces
@@ -338,13 +348,18 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
     rows = constraint_rows(cm, fractures)
     timer.lap("assemble")
-    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None)
+    reused = far is not None and far.matches(cm)
+    if not reused:
+        far = FarField.start(problem, cm) if cm.far is not None else None
+    timer.lap("patch")
+    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None, far=far)
     timer.lap("factorize")
+    cm.stats["far_field"] = None if far is None else ("reused" if reused else "factorised")
     contact = ContactProblem(problem, rows)
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]))
+    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far)
 
 
 def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,

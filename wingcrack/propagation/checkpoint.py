@@ -54,10 +54,12 @@ def _plain(obj):
     return repr(obj)
 
 
-def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None) -> None:
+def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None, patch=None) -> None:
     """steps: the finished steps' records (dicts); history: the converged
-    slip of the Coulomb faces (SlipHistory, or None)."""
-    _save(out, fingerprint(case), k, fset, lam, steps, None, sizes, history)
+    slip of the Coulomb faces (SlipHistory, or None); patch: the run's
+    propagation.patch.Patch (None: none), so that a resumed run meshes as
+    the uninterrupted one."""
+    _save(out, fingerprint(case), k, fset, lam, steps, None, sizes, history, patch)
 
 
 class Writer:
@@ -71,18 +73,19 @@ class Writer:
         self.out, self.case = out, fingerprint(case)
         self._texts = StepTexts(lambda r: json.dumps(r.to_dict(), default=_plain))
 
-    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None) -> None:
+    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None, patch=None) -> None:
         """records: the finished steps (results.StepRecord)."""
-        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history)
+        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history, patch)
 
 
 #: where the steps' texts go in the meta's text (no case text holds NULs)
 _STEPS_MARK = "\0steps of the checkpoint\0"
 
 
-def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history) -> None:
+def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None) -> None:
     meta = {
         "version": VERSION, "case": case_print, "step": k, "load_factor": lam,
+        "patch": None if patch is None else patch.to_list(),
         "steps": steps if step_texts is None else _STEPS_MARK,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
                        "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion,
@@ -105,8 +108,21 @@ def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history) -> N
     write_atomic(Path(out) / NAME, buf.getvalue())
 
 
+def _patch(values):
+    """The Patch of a checkpoint's "patch" ([x, y, radius]; absent or null
+    in one written without a patch)."""
+    if values is None:
+        return None
+    from .patch import Patch
+
+    v = np.asarray(values, dtype=np.float64)
+    if v.shape != (3,) or not np.all(np.isfinite(v)) or not v[2] > 0.0:
+        raise ValueError(f"patch is {values!r}, not [x, y, radius > 0]")
+    return Patch.from_list(v)
+
+
 def load(out, case) -> dict:
-    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history'} of the checkpoint in
+    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history', 'patch'} of the checkpoint in
     `out`; ValueError naming the file and the reason when there is none, it
     cannot be read (truncated, empty, not a checkpoint, keys missing) or it
     belongs to another case."""
@@ -140,7 +156,8 @@ def load(out, case) -> dict:
                                      _coefficient(m, "pressure"), _joined_to(m, len(meta["fractures"])))
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
-                 "fset": FractureSet(fractures), "sizes": sizes, "history": history}
+                 "fset": FractureSet(fractures), "sizes": sizes, "history": history,
+                 "patch": _patch(meta.get("patch"))}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "

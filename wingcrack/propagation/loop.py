@@ -1,7 +1,10 @@
 """The propagation loop (paper Fig. 8), one step at a time:
 
     discretise the current fractures (wingcrack.step: mesh, assemble,
-    factorise with the Schur complement for contact)
+    factorise with the Schur complement for contact; on a fixed mesh the
+    far field outside the run's patch (propagation.patch) is meshed and
+    factorised once for the steps it serves, and a step factorises the
+    patch only)
     -> critical load factor (critical_load: the first tip reaches KIc)
     -> solve + SIFs (wingcrack.step)
     -> growth (growth: MTS direction, Paris-type lengths, the L_min rule,
@@ -35,6 +38,7 @@ from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from . import checkpoint, growth, interrupt
 from .critical_load import critical_load_factor, scales_with_load
 from .fracture_set import FractureSet
+from .patch import next_patch
 
 #: no fracture of the case has a free tip that may grow (every end a mouth, or grow = false)
 NO_TIP_AT_ALL = "stopped: no tip can grow (no fracture has a free tip that may grow)"
@@ -171,16 +175,19 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
     shown = None   # the discretisation of the last recorded step, while it is not released
     sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
     history = None   # the converged slip of the faces (friction), carried to the next mesh
+    patch = None     # the circle remeshed every step (propagation.patch; fixed meshes only)
+    far = None       # the far field's factorisation outside it (fem.far_field), kept while it serves
     first = 0
     if resume:
         if out is None:
             raise ValueError("resume needs the output folder of the run")
         ck = checkpoint.load(out, case)
         fset, lam, sizes, first = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
-        history = ck["history"]
+        history, patch = ck["history"], ck["patch"]
         records = [StepRecord.from_dict(s) for s in ck["steps"]]
     if first < prop.steps and fset.active_tips():   # its gmsh overlaps the imports of preload()
-        next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout)
+        patch = next_patch(patch, case, fset)
+        next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout, patch=patch)
     frozen.enter_context(_collector_skips_modules())
 
     done = fset.copy()   # the fractures after the last finished step
@@ -210,7 +217,10 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
             _release(disc)   # the previous step's factors and forms
             disc = shown = None
             disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history,
-                                   mesh=next_mesh.take())
+                                   mesh=next_mesh.take(), patch=patch, far=far)
+            if disc.far is not far and far is not None:
+                far.destroy()   # the patch moved on: its far field is another
+            far = disc.far
             interrupt.check()
             grow = growth.may_grow(disc.cm, fset)
             if not grow:
@@ -255,7 +265,9 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 timer.lap("estimate")
             if k + 1 < prop.steps and fset.active_tips():
                 # step k+1's mesh is made while step k is written; it fails (if it does) as step k+1
-                next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout)
+                patch = next_patch(patch, case, fset)
+                next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout,
+                                                    patch=patch)
                 timer.lap("mesh")
             record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
@@ -268,7 +280,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 history = converged
                 write("running")
                 if writes:
-                    checkpoints.save(k, fset, lam, records, sizes, history)
+                    checkpoints.save(k, fset, lam, records, sizes, history, patch)
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
             write(status)
