@@ -26,6 +26,7 @@ from scipy import sparse
 from builders import square_plate_with_cracks
 from wingcrack.case import Case
 from wingcrack.contact.constraints import constraint_rows
+from wingcrack.errors import ComputationError
 from wingcrack.fem.contact_problem import ContactProblem
 from wingcrack.fem.elasticity import ElasticProblem
 from wingcrack.fem.far_field import FarField
@@ -75,9 +76,10 @@ def meshes():
     return out
 
 
-def problem(case, cm, E_factor=1.0):
+def problem(case, cm, E_factor=1.0, loads=None):
     m = case.material
-    return ElasticProblem(to_dolfinx(cm), m.E * E_factor, m.nu, m.plane, case_loads(case, cm, case.fractures), cm=cm)
+    loads = loads or case_loads(case, cm, case.fractures)
+    return ElasticProblem(to_dolfinx(cm), m.E * E_factor, m.nu, m.plane, loads, cm=cm)
 
 
 def plain(case, cm, load_factor=1.0):
@@ -235,6 +237,41 @@ def test_other_material_takes_the_full_path(meshes, epoch):
     # twice as stiff: half the displacement (K scales with E, b does not)
     assert np.abs(2 * u - u_ref).max() <= TOL * np.abs(u_ref).max()
     p.destroy()
+
+
+def test_other_dirichlet_dofs_take_the_full_path(meshes, epoch):
+    """One more support, at a node of the far interior: that dof's row and
+    column of K are cut, K_II differs from the epoch's."""
+    case, cm, cm2 = meshes["open"]
+    far, _ = epoch
+    loads = case_loads(case, cm2, case.fractures)
+    node = int(far.I_nodes[len(far.I_nodes) // 3])
+    loads = dataclasses.replace(loads, point_displacements=list(loads.point_displacements) + [(node, 0, 0.0)])
+    p = problem(case, cm2, loads=loads)
+    p.factorize(far=far)
+    assert not p.reused_far
+    p.destroy()
+
+
+def test_a_body_nothing_holds_fails_alike(meshes):
+    """Without supports K is singular (rigid motions); the far interior's
+    block is not (its interface carries the far field), the reduced matrix
+    is, and its factorisation reports it as the whole K's does."""
+    case, cm, cm2 = meshes["open"]
+    messages = []
+    p0 = problem(case, cm, loads=dataclasses.replace(case_loads(case, cm, case.fractures), point_displacements=[]))
+    far = FarField.start(p0, cm)
+    p0.destroy()
+    for reuse in (True, False):
+        loads = dataclasses.replace(case_loads(case, cm2, case.fractures), point_displacements=[])
+        p = problem(case, cm2, loads=loads)
+        with pytest.raises(ComputationError) as err:
+            p.factorize(far=far if reuse else None)
+        assert ("reduce" in p.far_seconds) == reuse   # the reduced factorisation failed, not a fallback
+        messages.append(str(err.value).split("(")[0])
+        p.destroy()
+    far.destroy()
+    assert messages[0] == messages[1] and "singular" in messages[0]
 
 
 def test_start_declines(meshes):
