@@ -32,8 +32,9 @@ from scipy import sparse
 
 from . import schur
 
-#: the far interior must hold at least this share of the dofs, or the
-#: condensation saves less than its second far solve per load costs
+#: the far interior must hold at least this share of the dofs: below it the
+#: reduced matrix is about as large as the whole, while every solve still
+#: goes through the far factor twice
 MIN_SHARE = 0.5
 #: the relative difference of K's diagonal on I between the epoch and a later
 #: mesh beyond which the far field is not the epoch's (another material or
@@ -167,9 +168,9 @@ class FarField:
         t1 = time.perf_counter()
 
         sub = PETSc.IS().createGeneral(both.astype(PETSc.IntType), comm=PETSc.COMM_SELF)
-        self.A = problem.A.createSubMatrix(sub, sub)
+        A = problem.A.createSubMatrix(sub, sub)
         sub.destroy()
-        self.A.setOption(PETSc.Mat.Option.SPD, True)
+        A.setOption(PETSc.Mat.Option.SPD, True)
         sub = PETSc.IS().createGeneral(G.astype(PETSc.IntType), comm=PETSc.COMM_SELF)
         block = problem.A.createSubMatrix(sub, sub)
         sub.destroy()
@@ -182,13 +183,19 @@ class FarField:
         t2 = time.perf_counter()
 
         from .elasticity import cholesky
-        self.ksp = _cholesky_solver(self.A)
-        cholesky(self.ksp, self._pG)
-        # the copy before the first solve factorises S' in place (see ElasticProblem.schur_complement)
-        self.S = schur.schur_complement(self.ksp.getPC().getFactorMatrix(), self.nG)
+        ksp = _cholesky_solver(A)
+        try:
+            cholesky(ksp, self._pG)
+            # the copy before the first solve factorises S' in place (see ElasticProblem.schur_complement)
+            self.S = schur.schur_complement(ksp.getPC().getFactorMatrix(), self.nG)
+            # the factor alone solves (MatSolve): A_far, as large as most of K, is not kept beside it
+            self.F = ksp.getPC().getFactorMatrix()
+            self._rhs, self._x = A.createVecs()
+        finally:
+            ksp.destroy()
+            A.destroy()
         self.W = K_GG - self.S
         self.W = 0.5 * (self.W + self.W.T)
-        self._rhs, self._x = self.A.createVecs()
         t3 = time.perf_counter()
         self.seconds = {"select": t1 - t0, "extract": t2 - t1, "factorise": t3 - t2}
         return self
@@ -199,7 +206,7 @@ class FarField:
         return self.nI, self.nG
 
     def destroy(self) -> None:
-        for obj in (self.ksp, self.A, self._rhs, self._x):
+        for obj in (self.F, self._rhs, self._x):
             obj.destroy()
 
     # -- matching a later mesh ----------------------------------------------
@@ -249,7 +256,7 @@ class FarField:
         r = self._rhs.getArray()
         r[self._pI] = top
         r[self._pG] = bottom
-        _solve(self.ksp, self._rhs, self._x)
+        self.F.solve(self._rhs, self._x)
         x = self._x.getArray()
         return np.r_[x[self._pI], x[self._pG]]
 
