@@ -135,7 +135,7 @@ def test_moved_patch_reuses_the_far_factor(meshes, epoch):
     p.factorize(far=far)
     assert p.reused_far
     assert set(p.far_seconds) == {"match", "reduce", "factorise"}
-    for lf in (1.0, 0.3):
+    for lf in (1.0, 0.3, 2.5):
         u = p.solve(lf).x.array.copy()
         u_ref, K, b, nodal = plain(case, cm2, lf)
         assert np.abs(u - u_ref).max() <= TOL * np.abs(u_ref).max()
@@ -145,6 +145,26 @@ def test_moved_patch_reuses_the_far_factor(meshes, epoch):
         c = p._condensed
         assert np.abs(c.y - u[c.R[c.g]]).max() <= 1e-13 * np.abs(u).max()
     p.destroy()
+
+
+def test_load_responses_from_the_span_of_earlier_ones(epoch):
+    """A_far^-1 [b_I; 0] of a combination of kept right-hand sides is the
+    same combination of their responses (linearity), up to round-off; a
+    right-hand side outside their span is solved for."""
+    far, _ = epoch
+    rng = np.random.default_rng(5)
+    a, b = rng.standard_normal((2, far.nI))
+    za, zb = far.load_response(a), far.load_response(b)
+    reused = far.reused_responses
+    z = far.load_response(0.7 * a - 2.1 * b)
+    assert far.reused_responses == reused + 1
+    direct = far.solve(0.7 * a - 2.1 * b, np.zeros(far.nG))
+    # a combination of two backward-stable solves against a third: round-off of the far factor
+    assert np.abs(z - direct).max() <= 1e-12 * np.abs(direct).max()
+    c = rng.standard_normal(far.nI)
+    assert np.array_equal(far.load_response(c), far.solve(c, np.zeros(far.nG)))
+    assert far.reused_responses == reused + 1
+    assert not far.load_response(np.zeros(far.nI)).any()
 
 
 def test_dirichlet_dofs_inside_the_far_field(meshes, epoch):
