@@ -7,7 +7,9 @@ so only the crack faces feel -sigma0.n: they are traction-free in total.
 
 Everything that changes between solves (load factor, prescribed values) lives
 in a fem.Constant, so each form compiles once. The matrix does not depend on
-the load: it is factorised once per mesh (Cholesky, MUMPS) and reused.
+the load: it is factorised once per mesh (Cholesky, MUMPS) and reused;
+where the mesh keeps an earlier mesh's far field, only the matrix condensed
+on the rest is (fem.far_field).
 """
 from __future__ import annotations
 
