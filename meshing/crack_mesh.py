@@ -101,6 +101,7 @@ class CrackMesh:
     point_nodes: np.ndarray  # (q,) node of each bc point (at a crack mouth: one of its 2 copies)
     crack_edges_minus: np.ndarray | None = None  # (k, 3) - face copy of crack_edges
     stats: dict = field(default_factory=dict)
+    far: np.ndarray | None = None  # (m,) bool: cells of the far field, outside the patch the remesher keeps
 
 
 def crack_mesh(

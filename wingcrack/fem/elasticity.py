@@ -7,7 +7,9 @@ so only the crack faces feel -sigma0.n: they are traction-free in total.
 
 Everything that changes between solves (load factor, prescribed values) lives
 in a fem.Constant, so each form compiles once. The matrix does not depend on
-the load: it is factorised once per mesh (Cholesky, MUMPS) and reused.
+the load: it is factorised once per mesh (Cholesky, MUMPS) and reused;
+where the mesh keeps an earlier mesh's far field, only the matrix condensed
+on the rest is (fem.far_field).
 """
 from __future__ import annotations
 
@@ -41,8 +43,9 @@ _OPTIONS_PREFIX = "wingcrack_elastic_"
 class ElasticProblem:
     """Assemble once per mesh, factorise once, solve for any load factor."""
 
-    def __init__(self, fm, E: float, nu: float, plane: str, loads: Loads):
+    def __init__(self, fm, E: float, nu: float, plane: str, loads: Loads, cm=None):
         self.fm = fm
+        self.cm = cm   # the CrackMesh of fm: needed only to reuse a far field (factorize)
         msh, V = fm.mesh, fm.V
         lam, mu = lame(E, nu, plane)
         self.lam = fem.Constant(msh, PETSc.ScalarType(lam))
@@ -83,6 +86,10 @@ class ElasticProblem:
         pc.setFactorSolverType("mumps")
         self._factored = False
         self._schur = None
+        self._condensed = None    # fem.far_field.Condensed when factorize reused a far field
+        self.schur_dofs = None
+        self.reused_far = False
+        self.far_seconds = {}
         self.b = fpetsc.create_vector(self.L)
         self.load_factor_solved = 1.0
         self.u = fem.Function(V, name="displacement")
@@ -161,63 +168,53 @@ class ElasticProblem:
         return out
 
     # -- solve --------------------------------------------------------------
-    def factorize(self, schur_dofs=None):
+    def factorize(self, schur_dofs=None, far=None):
         """Factorise K (MUMPS Cholesky). With `schur_dofs` (owned local dofs,
         one process), MUMPS also returns the Schur complement on them (see
-        fem.schur): the contact pair system then costs no extra solves."""
+        fem.schur): the contact pair system then costs no extra solves.
+        With `far` (a fem.far_field.FarField) whose far field this mesh
+        (self.cm) keeps, only the reduced matrix on the dofs outside the far
+        interior is factorised (self.reused_far; the seconds of its parts in
+        self.far_seconds); otherwise K whole."""
         from . import schur
 
         self.schur_dofs = None
         self._schur = None
+        self.reused_far = False
+        self.far_seconds = {}
+        if self._condensed is not None:
+            self._condensed.destroy()
+            self._condensed = None
         with_schur = schur_dofs is not None and len(schur_dofs) > 0 and schur.available(self.fm.mesh.comm)
+        if far is not None:
+            if self.cm is None:
+                raise ValueError("factorize(far=...) needs the problem's CrackMesh: ElasticProblem(..., cm=cm)")
+            self._condensed = far.condense(self, schur_dofs if with_schur else None)
+            if self._condensed is not None:
+                self.reused_far = True
+                if with_schur:
+                    self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)
+                self._factored = True
+                return
+        cholesky(self.solver, schur_dofs if with_schur else None, self.fm.num_dofs)
         if with_schur:
-            pc = self.solver.getPC()
-            pc.setFactorSetUpSolverType()
-            schur.set_schur_dofs(pc.getFactorMatrix(), schur_dofs)
             self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)
-        pc = self.solver.getPC()
-        pc.setFactorSetUpSolverType()
-        # Null-pivot detection, a second line behind wingcrack.free_pieces (which finds free
-        # pieces exactly, before this): it caught a wholly free piece here, but not one held at a
-        # single point and free to rotate (no threshold up to 1e-6 flagged that). A pivot below 1e-12 ||K|| is null.
-        # A well-posed mesh's smallest pivot is >= lambda_min(K) ~ ||K|| (h_min / L)^2, above
-        # 1e-10 ||K|| for L / h_min up to 1e5; round-off pivots of a free piece are ~1e-16 ||K||.
-        F = pc.getFactorMatrix()
-        F.setMumpsIcntl(24, 1)
-        F.setMumpsCntl(3, NULL_PIVOT)
-        # PETSc 3.18 sets ICNTL(7) from the options database at the analysis,
-        # over a value MatMumpsSetIcntl gave before (MUMPS then takes its own
-        # choice): so it goes in the database, under the factor's own prefix,
-        # for this factorisation only
-        F.setOptionsPrefix(_OPTIONS_PREFIX)
-        options = PETSc.Options()
-        ordering = None
-        if not with_schur and self.fm.num_dofs < AMF_BELOW:
-            ordering = _OPTIONS_PREFIX + "mat_mumps_icntl_7"
-            options[ordering] = 2
-        try:
-            self.solver.setUp()
-            # INFOG(28): null pivots; INFOG(12): negative pivots, which an SPD K never has
-            null_pivots = F.getMumpsInfog(28) + F.getMumpsInfog(12)
-        except PETSc.Error as err:
-            from ..errors import ComputationError
-            raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "
-                                   "singular or not positive definite; a fracture may cut off a piece of the body "
-                                   "that no boundary condition holds") from None
-        finally:
-            if ordering is not None:
-                options.delValue(ordering)
-        if null_pivots > 0:
-            from ..errors import ComputationError
-            raise ComputationError(f"the stiffness matrix is singular ({null_pivots} null or negative pivots): a fracture cuts off "
-                                   "a piece of the body that no boundary condition holds")
         self._factored = True
+
+    def _factor(self) -> PETSc.Mat:
+        """The MUMPS factor that holds the Schur complement (K's or, with the
+        far field reused, the reduced matrix's)."""
+        ksp = self._condensed.ksp if self._condensed is not None else self.solver
+        return ksp.getPC().getFactorMatrix()
 
     def destroy(self) -> None:
         """Free the PETSc objects (matrix, MUMPS factors, vectors) now rather
         than whenever Python's collector gets to them."""
         for obj in (self.solver, self.A, self.b, self.u.vector):
             obj.destroy()
+        if self._condensed is not None:
+            self._condensed.destroy()
+            self._condensed = None
         self._factored = False
 
     def schur_complement(self) -> np.ndarray:
@@ -229,7 +226,7 @@ class ElasticProblem:
         from . import schur
 
         if self._schur is None:
-            self._schur = schur.schur_complement(self.solver.getPC().getFactorMatrix(), len(self.schur_dofs))
+            self._schur = schur.schur_complement(self._factor(), len(self.schur_dofs))
         return self._schur
 
     def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
@@ -260,13 +257,75 @@ class ElasticProblem:
             self.factorize()
         b = self.assemble_rhs(load_factor)
         self.load_factor_solved = float(load_factor)   # what u belongs to (the face pressure of the SIFs)
-        self.solver.solve(b, self.u.vector)
-        reason = self.solver.getConvergedReason()
-        if reason < 0:
-            from ..errors import ComputationError
-            raise ComputationError(f"linear solve failed (PETSc reason {reason})")
+        self.solve_vector(b, self.u.vector)
         self.u.x.scatter_forward()
         if not np.all(np.isfinite(self.u.x.array)):
             from ..errors import ComputationError
             raise ComputationError("the displacement has NaN/inf: the body is not held (singular system)")
         return self.u
+
+    def solve_vector(self, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
+        """out = K^-1 rhs, vectors in the problem's dof layout, through the
+        factorisation factorize made (the whole K or the far field's
+        condensation); no ghost update."""
+        if not self._factored:
+            self.factorize()
+        if self._condensed is not None:
+            self._condensed.solve(rhs, out)
+            return
+        self.solver.solve(rhs, out)
+        reason = self.solver.getConvergedReason()
+        if reason < 0:
+            from ..errors import ComputationError
+            raise ComputationError(f"linear solve failed (PETSc reason {reason})")
+
+
+def cholesky(solver: PETSc.KSP, schur_dofs=None, num_dofs: int | None = None) -> None:
+    """Set up the MUMPS Cholesky factorisation of the KSP `solver` (its
+    operator SPD), with the Schur complement on `schur_dofs` (positions in
+    that operator, one process) when given; ComputationError where the
+    matrix is singular or not positive definite. num_dofs: the operator's
+    size, for the ordering (AMF_BELOW)."""
+    from . import schur
+
+    pc = solver.getPC()
+    pc.setFactorSetUpSolverType()
+    if schur_dofs is not None:
+        schur.set_schur_dofs(pc.getFactorMatrix(), schur_dofs)
+        pc.setFactorSetUpSolverType()
+    # Null-pivot detection, a second line behind wingcrack.free_pieces (which finds free
+    # pieces exactly, before this): it caught a wholly free piece here, but not one held at a
+    # single point and free to rotate (no threshold up to 1e-6 flagged that). A pivot below 1e-12 ||K|| is null.
+    # A well-posed mesh's smallest pivot is >= lambda_min(K) ~ ||K|| (h_min / L)^2, above
+    # 1e-10 ||K|| for L / h_min up to 1e5; round-off pivots of a free piece are ~1e-16 ||K||.
+    F = pc.getFactorMatrix()
+    F.setMumpsIcntl(24, 1)
+    F.setMumpsCntl(3, NULL_PIVOT)
+    # PETSc 3.18 sets ICNTL(7) from the options database at the analysis,
+    # over a value MatMumpsSetIcntl gave before (MUMPS then takes its own
+    # choice): so it goes in the database, under the factor's own prefix,
+    # for this factorisation only
+    F.setOptionsPrefix(_OPTIONS_PREFIX)
+    options = PETSc.Options()
+    ordering = None
+    if num_dofs is None:
+        num_dofs = solver.getOperators()[0].getSize()[0]
+    if schur_dofs is None and num_dofs < AMF_BELOW:
+        ordering = _OPTIONS_PREFIX + "mat_mumps_icntl_7"
+        options[ordering] = 2
+    try:
+        solver.setUp()
+        # INFOG(28): null pivots; INFOG(12): negative pivots, which an SPD K never has
+        null_pivots = F.getMumpsInfog(28) + F.getMumpsInfog(12)
+    except PETSc.Error as err:
+        from ..errors import ComputationError
+        raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "
+                               "singular or not positive definite; a fracture may cut off a piece of the body "
+                               "that no boundary condition holds") from None
+    finally:
+        if ordering is not None:
+            options.delValue(ordering)
+    if null_pivots > 0:
+        from ..errors import ComputationError
+        raise ComputationError(f"the stiffness matrix is singular ({null_pivots} null or negative pivots): a fracture cuts off "
+                               "a piece of the body that no boundary condition holds")

@@ -123,7 +123,7 @@ class PairOperator:
             rhs = p.b.duplicate()
             rhs.getArray()[:] = self.B_free @ mu
             du = rhs.duplicate()
-            p.solver.solve(rhs, du)
+            p.solve_vector(rhs, du)   # through the far field's condensation where factorize reused it
             u.vector.axpy(1.0, du)
             rhs.destroy()
             du.destroy()
