@@ -345,16 +345,23 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if pieces:
         raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
                                f"no displacement condition holds ({describe(pieces)})")
-    problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads)
+    problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads, cm=cm)
     rows = constraint_rows(cm, fractures)
     timer.lap("assemble")
-    reused = far is not None and far.matches(cm)
-    if not reused:
-        far = FarField.start(problem, cm) if cm.far is not None else None
+    started = False
+    if far is not None and not far.matches(cm):
+        far = None   # the patch moved on (the caller destroys the old one)
+    if far is None and cm.far is not None:
+        far = FarField.start(problem, cm)
+        started = far is not None
     timer.lap("patch")
     problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None, far=far)
     timer.lap("factorize")
-    cm.stats["far_field"] = None if far is None else ("reused" if reused else "factorised")
+    if far is not None and not problem.reused_far:   # other supports in the far field: factorised whole
+        if started:
+            far.destroy()
+        far = None
+    cm.stats["far_field"] = None if far is None else ("factorised" if started else "reused")
     contact = ContactProblem(problem, rows)
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
