@@ -91,6 +91,8 @@ class CrackMesh:
     point_nodes: np.ndarray  # (q,) node of each bc point (at a crack mouth: one of its 2 copies)
     crack_edges_minus: np.ndarray | None = None  # (k, 3) - face copy of crack_edges
     stats: dict = field(default_factory=dict)
+    # (m,) True for the cells outside the patch circle (the far field); None without a patch
+    far: np.ndarray | None = None
 
 
 def crack_mesh(
@@ -102,6 +104,7 @@ def crack_mesh(
     sectors: int = 16,
     sizes: tuple[np.ndarray, np.ndarray] | None = None,
     timeout: float | None = None,
+    patch: tuple[np.ndarray, float] | None = None,
 ) -> CrackMesh:
     """Mesh `domain` with the `fractures` (polylines (n, 2)) as double-noded
     cracks and the bc `points` (on the boundary) as nodes.
@@ -114,6 +117,18 @@ def crack_mesh(
     the previous step); timeout: seconds gmsh may take (None: no limit); on
     timeout it is retried once with 1.5 times coarser `sizes` and another
     meshing algorithm, then MeshTimeout (a RuntimeError) is raised.
+    patch = (center (2,), radius): a circle (metres, the caller's frame) meshed
+    as a curve of its own, with the cells inside and outside it meshed as
+    separate gmsh surfaces, the outside first: then the cells outside (the
+    far field, CrackMesh.far) come out bitwise the same in every call with
+    the same domain, bc points, size, tip_size, sectors, sizes and patch and
+    the same fractures outside, whatever the fractures inside, and the
+    circle's nodes with them (node numbering may differ). A patch that does
+    not fit (_patch_circle: off the boundary and the bc points by 2 size,
+    every fracture wholly inside or outside and clear of it by
+    _patch_clearance) is ignored (stats["patch"] False, far None), as is one
+    not centred on the centre of a point-symmetric geometry (the symmetry is
+    kept instead; a centred one is used with it).
     A fracture end that lies on another fracture (or on a non-adjacent part of
     its own) is a T-junction: no rosette there, the other fracture is split at
     the point, and the junction node gets three copies.
@@ -126,7 +141,7 @@ def crack_mesh(
     comes out inverted. gmsh sees the geometry in an exact frame of its own
     (_Frame): any domain size and offset the rules allow mesh alike.
     """
-    return start_crack_mesh(domain, fractures, points, size, tip_size, sectors, sizes, timeout).result()
+    return start_crack_mesh(domain, fractures, points, size, tip_size, sectors, sizes, timeout, patch).result()
 
 
 def start_crack_mesh(
@@ -138,6 +153,7 @@ def start_crack_mesh(
     sectors: int = 16,
     sizes: tuple[np.ndarray, np.ndarray] | None = None,
     timeout: float | None = None,
+    patch: tuple[np.ndarray, float] | None = None,
 ) -> PendingMesh:
     """crack_mesh begun: the arguments are checked and the geometry planned
     here (ValueError at once, as crack_mesh raises it), gmsh's work is sent
@@ -159,9 +175,20 @@ def start_crack_mesh(
     size, tip_size = size / frame.scale, tip_size / frame.scale
     if sizes is not None:
         sizes = (frame.to(sizes[0]), np.asarray(sizes[1], dtype=np.float64) / frame.scale)
-    half = point_symmetry.find_half(
-        domain, plan.fractures, [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors], tip_size
-    )
+    circle = None if patch is None else _patch_circle(domain, plan, frame, patch, size, tip_size, sectors)
+    tips, anchors = [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors]
+    half, centre = None, point_symmetry.domain_center(domain)
+    if circle is not None and centre is not None and \
+            np.linalg.norm(circle.center - centre) <= 1e-9 * domain.length_scale():
+        circle = _Circle.of(centre, circle.radius, size)
+        half = point_symmetry.find_half_patched(domain, plan.fractures, tips, anchors, tip_size, circle.radius,
+                                                circle.points)
+        if half is not None:
+            circle = _Circle.of(centre, circle.radius, size, half.k_out)
+    if half is None:
+        half = point_symmetry.find_half(domain, plan.fractures, tips, anchors, tip_size)
+        if half is not None:
+            circle = None  # symmetry first: a circle off the centre would break it
     if half is not None:
         plan = _with_divider(domain, plan, half)
 
@@ -170,7 +197,7 @@ def start_crack_mesh(
         halved = point_symmetry.sizes_for_half(*sizes, half, ON_BOUNDARY * domain.length_scale())
         mirror_sizes = halved is None  # not symmetric: bound by the field and its image
         sizes = sizes if halved is None else halved
-    return PendingMesh(domain, plan, frame, half, (size, tip_size, sectors, sizes, mirror_sizes), timeout,
+    return PendingMesh(domain, plan, frame, half, (size, tip_size, sectors, sizes, mirror_sizes, circle), timeout,
                        time.perf_counter() - t_start)
 
 
@@ -184,9 +211,11 @@ class PendingMesh:
         self._first = self.attempt(1.0, 6)
 
     def attempt(self, coarsen: float, algorithm: int):
-        size, tip_size, sectors, sizes, mirror_sizes = self._job
+        size, tip_size, sectors, sizes, mirror_sizes, circle = self._job
         scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
         args = (self._domain, self._plan, size, tip_size, sectors, scaled, self._half, mirror_sizes, algorithm)
+        if circle is not None:
+            args += (circle,)
         return start_with_timeout(_gmsh_session, args, self._timeout)
 
     def cancel(self) -> None:
@@ -240,6 +269,7 @@ class PendingMesh:
             tips=tips,
             point_nodes=raw.point_nodes,
             crack_edges_minus=split.crack_edges_minus,
+            far=raw.far,
         )
         mesh.stats = {
             "nodes": int(len(x)),
@@ -256,6 +286,9 @@ class PendingMesh:
             "gmsh_retried": retried,
             "symmetric": half is not None,
             "divider_angle": None if half is None else math.degrees(half.angle),
+            "patch": self._job[5] is not None,
+            # the divider inside the patch circle (symmetric meshes with a patch; its own, see point_symmetry.Inner)
+            "inner_divider_angle": None if half is None or half.inner is None else math.degrees(half.inner.angle),
             "seconds_split": t_split,
             # planning + gmsh + the rest here
             "seconds": self._seconds + t_gmsh + (time.perf_counter() - t_after),
@@ -484,13 +517,17 @@ def _junctions(polylines, free_ends, tol):
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm) -> RawMesh:
+def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm,
+                  circle=None) -> RawMesh:
     import gmsh
 
     with _scratch() as scratch:
         gmsh.initialize(readConfigFiles=False)
         try:
             gmsh.option.setNumber("General.Terminal", 0)
+            if circle is not None:
+                return _mesh_patched(domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes,
+                                     scratch, circle)
             return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes,
                                    scratch)
         except Exception as error:  # gmsh raises bare Exception
@@ -661,6 +698,298 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
     return _extract(boundary_curves, crack_curves, tip_point, points, divider)
 
 
+
+# -- the patch: a circle whose outside meshes alike whatever lies inside ----------
+
+
+@dataclass(frozen=True)
+class _Circle:
+    """The patch circle in gmsh's frame and its fixed 1D mesh: N nodes (N even,
+    spacing <= size, counter-clockwise from angle pi/N) joined by N arcs of
+    one edge each, mid node k at the middle of the arc from node k to k + 1.
+    Fixed nodes, not gmsh's meshing of the circle, because a symmetric
+    geometry's dividers end on them: where they end then changes nothing on
+    the circle. With `k_out` (the outer divider's node, symmetric meshes)
+    the nodes and mid nodes from k_out on for half a turn are placed by
+    cos/sin and the others are their images 2c - x, as glue computes the
+    image of a node: whichever half of the circle gmsh meshes (that depends
+    on the inner divider), the coordinates are the same bits."""
+
+    center: np.ndarray
+    radius: float
+    points: np.ndarray  # (N, 2)
+    mids: np.ndarray  # (N, 2)
+
+    @classmethod
+    def of(cls, center, radius: float, size: float, k_out: int | None = None) -> _Circle:
+        c = np.asarray(center, dtype=np.float64)
+        n = max(8, 2 * math.ceil(math.pi * radius / size))
+        angle = 2.0 * math.pi * (np.arange(n) + 0.5) / n
+        pts = c + radius * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+        mids = c + radius * np.stack([np.cos(angle + math.pi / n), np.sin(angle + math.pi / n)], axis=1)
+        if k_out is not None:
+            own = (k_out + np.arange(n // 2)) % n
+            pts[(own + n // 2) % n] = point_symmetry.rotate(pts[own], c)
+            mids[(own + n // 2) % n] = point_symmetry.rotate(mids[own], c)
+        return cls(c, float(radius), pts, mids)
+
+
+def _patch_clearance(size: float, tip_size: float, tip_h: float | None = None, sectors: int = 16) -> float:
+    """The least distance between the patch circle and a fracture (tip_h None)
+    or a tip with rosette radius tip_h. The size field (_size_field) is a min
+    of thresholds that reach `size` at DistMax from their fracture or tip:
+    (size - h_crack) / GRADING from a fracture (h_crack >= tip_size, so
+    (size - tip_size) / GRADING bounds it), h + (size - h_ring) / TIP_GRADING
+    from a tip (h_ring the rosette's chord, below tip_size: a tip reaches
+    farther than its fracture). Beyond it every threshold is `size` exactly
+    (gmsh's Threshold returns SizeMax there, and its sampled distance never
+    undercuts the true one), so on the circle and outside it the field does
+    not depend on what is inside. The 2 size more keep the graded cells
+    inside off the circle: the cells that touch it inside are of its own
+    spacing, and the inside's meshing starts from a boundary that is not
+    crowded by the refinement (tests/test_meshing_patch.py measures the far
+    field's identity with it)."""
+    if tip_h is None:
+        return 2.0 * size + (size - tip_size) / GRADING
+    return 2.0 * size + tip_h + (size - 2.0 * tip_h * math.sin(math.pi / sectors)) / TIP_GRADING
+
+
+def _patch_circle(domain, plan: _Plan, frame, patch, size, tip_size, sectors) -> _Circle | None:
+    """The patch (center, radius; the caller's frame) in gmsh's frame, or None
+    when it does not fit: the circle within the domain and 2 size off its
+    boundary and off every anchor (bc points, crack mouths), every fracture
+    wholly inside or wholly outside it and _patch_clearance away from it,
+    every tip likewise. Never an error: a patch that does not fit only
+    costs the caller the reuse."""
+    try:
+        c = frame.to(np.asarray(patch[0], dtype=np.float64).reshape(2))
+        r = float(patch[1]) / frame.scale
+    except (TypeError, ValueError, IndexError):
+        return None
+    if not (np.all(np.isfinite(c)) and math.isfinite(r) and r > 0.0):
+        return None
+    if not domain.contains(c) or domain.distance_to_boundary(c) < r + 2.0 * size:
+        return None
+    if any(np.linalg.norm(a - c) < r + 2.0 * size for _, _, a in plan.anchors):
+        return None
+    clear = _patch_clearance(size, tip_size)
+    for pts in plan.fractures:
+        if np.linalg.norm(pts - c, axis=1).max() <= r - clear:
+            continue  # inside
+        a, ab = pts[:-1], np.diff(pts, axis=0)
+        t = np.clip(np.einsum("ij,ij->i", c - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+        if np.linalg.norm(a + t[:, None] * ab - c, axis=1).min() >= r + clear:
+            continue  # outside
+        return None
+    for t in plan.tips:
+        if abs(np.linalg.norm(t.x - c) - r) < _patch_clearance(size, tip_size, t.h, sectors):
+            return None
+    return _Circle.of(c, r, size)
+
+
+def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes, scratch,
+                  circle: _Circle) -> RawMesh:
+    """_mesh_with_gmsh with a patch circle: the far field (outside the circle:
+    the outer boundary, the fractures and tips there, the divider outside)
+    is built first, so that its entities have the lowest tags and its
+    surface is meshed first (gmsh meshes surfaces in tag order, and the
+    random perturbation of its Delaunay insertion restarts with each
+    generate: nothing inside can reach the far surface's meshing); then the
+    inside. With `half`: the far half on the left of the outer divider, the
+    patch half on the left of the inner one (point_symmetry.Inner)."""
+    import gmsh
+
+    geo = gmsh.model.geo
+    gmsh.model.add("wingcrack")
+    meshed = (lambda x: True) if half is None else half.left
+    c, r, n = circle.center, circle.radius, len(circle.points)
+    inside = [bool(np.linalg.norm(p[0] - c) < r) for p in plan.fractures]
+
+    anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
+    ring = _boundary_ring(domain, plan, geo, anchor_tag)
+    center = geo.addPoint(*domain.center, 0.0) if domain.shape == "disc" else None
+    if half is None:
+        pieces = list(zip(ring, ring[1:] + ring[:1]))
+    else:
+        tags = [tag for tag, _ in ring]
+        start = tags.index(_anchor_at(plan, anchor_tag, half.points[-1]))
+        stop = tags.index(_anchor_at(plan, anchor_tag, half.points[0]))
+        arc = ring[start:] + ring[:start]
+        arc = arc[: (stop - start) % len(ring) + 1]
+        pieces = list(zip(arc[:-1], arc[1:]))
+    boundary_curves: list[tuple[int, str]] = []
+    for (a, name), (b, _) in pieces:
+        curve = geo.addCircleArc(a, center, b) if center is not None else geo.addLine(a, b)
+        boundary_curves.append((curve, name))
+    hub = geo.addPoint(c[0], c[1], 0.0)
+    node = [geo.addPoint(p[0], p[1], 0.0) for p in circle.points]
+    arcs = [geo.addCircleArc(node[j], hub, node[(j + 1) % n]) for j in range(n)]
+    for a in arcs:
+        geo.mesh.setTransfiniteCurve(a, 2)
+
+    tip_of = {(t.fracture, t.end): k for k, t in enumerate(plan.tips)}
+    tip_point: list = [None] * len(plan.tips)
+    spoke: list = [None] * len(plan.tips)
+    curves_of: dict[int, list] = {}  # fracture -> its crack curves, in order
+    vertex_tags: dict[int, list[int]] = {}
+    sides = []
+    for far_side in (True, False):
+        group = [f for f in range(len(plan.fractures)) if inside[f] != far_side]
+        tips = [k for k, t in enumerate(plan.tips) if bool(np.linalg.norm(t.x - c) >= r) == far_side]
+        sectors_of, holes = [], []
+        for k in tips:
+            sector_loops, hole = _rosette_curves(geo, plan.tips[k], sectors, meshed, tip_point, spoke, k)
+            sectors_of += sector_loops
+            if hole is not None:
+                holes.append(hole)
+        embedded, elsewhere = _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed,
+                                               vertex_tags, curves_of)
+        if far_side:
+            divider, loop = [], [cv for cv, _ in boundary_curves]
+            if half is not None:  # R(p) .. R(q) | q .. p: the part between R(q) and q is inside
+                k_out, m = half.k_out, len(half.points) // 2
+                ends = {m - 1: node[(k_out + n // 2) % n], m: node[k_out]}
+                tags = [ends.get(i) or _vertex_at(plan, anchor_tag, vertex_tags, geo, q)
+                        for i, q in enumerate(half.points)]
+                divider = [geo.addLine(a, b) for a, b in zip(tags[:m - 1], tags[1:m])]
+                divider += [geo.addLine(a, b) for a, b in zip(tags[m:-1], tags[m + 1:])]
+                around = [-arcs[(k_out + n // 2 - 1 - j) % n] for j in range(n // 2)]
+                loop = loop + divider[: m - 1] + around + divider[m - 1:]
+                bounds = [geo.addCurveLoop(loop)] + holes
+            else:
+                bounds = [geo.addCurveLoop(loop), geo.addCurveLoop(arcs)] + holes
+        else:
+            if half is not None:
+                k_in = half.inner.k
+                pts = half.inner.points
+                ends = {0: node[(k_in + n // 2) % n], len(pts) - 1: node[k_in]}
+                tags = [ends.get(i) or _vertex_at(plan, anchor_tag, vertex_tags, geo, q) for i, q in enumerate(pts)]
+                divider = [geo.addLine(a, b) for a, b in zip(tags[:-1], tags[1:])]
+                loop = [arcs[(k_in + j) % n] for j in range(n // 2)] + divider
+            else:
+                divider, loop = [], list(arcs)
+            bounds = [geo.addCurveLoop(loop)] + holes
+        surface = geo.addPlaneSurface(bounds)
+        rosettes = [(geo.addPlaneSurface([lp]), corners) for lp, corners in sectors_of]
+        sides.append((surface, rosettes, divider, embedded, elsewhere, group))
+    for _, rosettes, _, _, _, _ in sides:
+        for s, corners in rosettes:
+            geo.mesh.setTransfiniteSurface(s, "Left", list(corners))
+    geo.synchronize()
+    if half is not None:  # each divider's second half mirrors its first, node for node
+        cx, cy = half.center
+        turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+        for _, _, divider, _, _, _ in sides:
+            for k in range(len(divider) // 2):
+                gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
+    for surface, _, _, embedded, _, _ in sides:
+        if embedded:
+            gmsh.model.mesh.embed(1, embedded, 2, surface)
+
+    groups = [(embedded + elsewhere, [plan.fractures[f] for f in group])
+              for _, _, _, embedded, elsewhere, group in sides]
+    _size_field(plan, [centre for centre, _ in tip_point], [], size, tip_size, sectors,
+                sizes, half.center if mirror_sizes else None, _box(domain), scratch, crack_groups=groups)
+    gmsh.option.setNumber("Mesh.Algorithm", algorithm)
+    gmsh.model.mesh.generate(2)
+    gmsh.model.mesh.setOrder(2)
+
+    points = [anchor_tag[a] for a in plan.point_anchor]
+    used_arcs = list(range(n))
+    mirrored_arcs: list[int] = []
+    if half is not None:
+        points = [tag if half.left(plan.anchors[a][2]) else
+                  _anchor_at(plan, anchor_tag, point_symmetry.rotate(plan.anchors[a][2], half.center))
+                  for tag, a in zip(points, plan.point_anchor)]
+        far_arcs = {(half.k_out + j) % n for j in range(n // 2)}
+        patch_arcs = {(half.inner.k + j) % n for j in range(n // 2)}
+        used_arcs = sorted(far_arcs | patch_arcs)
+        # an arc in one half's boundary only: its image is the other's (glue mirrors their nodes)
+        mirrored_arcs = [arcs[j] for j in sorted(far_arcs ^ patch_arcs)]
+    crack_curves = [cv for f in range(len(plan.fractures)) for cv in curves_of[f]]
+    (far, far_rosettes, far_divider, _, _, _), (_, _, inner_divider, _, _, _) = sides
+    return _extract(boundary_curves, crack_curves, tip_point, points, far_divider + inner_divider + mirrored_arcs,
+                    far_surfaces=[far] + [s for s, _ in far_rosettes],
+                    mids={arcs[j]: circle.mids[j] for j in used_arcs})
+
+
+def _rosette_curves(geo, t, sectors, meshed, tip_point, spoke, k):
+    """The points and curves of tip t's rosette (as _mesh_with_gmsh builds
+    them) and its sectors' loops [(loop, corners)], the surfaces left to the
+    caller; fills tip_point[k], spoke[k]. Returns (loops, hole loop), the
+    hole None (and no loops) for a tip not meshed here."""
+    centre = geo.addPoint(t.x[0], t.x[1], 0.0)
+    if not meshed(t.x):
+        tip_point[k] = (centre, None)
+        return [], None
+    phi0 = math.atan2(t.back[1], t.back[0])
+    ring_pts = []
+    for j in range(sectors):
+        phi = phi0 + 2.0 * math.pi * j / sectors
+        p = t.x + t.h * (t.back if j == 0 else np.array([math.cos(phi), math.sin(phi)]))
+        ring_pts.append(geo.addPoint(p[0], p[1], 0.0))
+    spokes = [geo.addLine(centre, q) for q in ring_pts]
+    chords = [geo.addLine(ring_pts[j], ring_pts[(j + 1) % sectors]) for j in range(sectors)]
+    loops = [(geo.addCurveLoop([spokes[j], chords[j], -spokes[(j + 1) % sectors]]),
+              (centre, ring_pts[j], ring_pts[(j + 1) % sectors])) for j in range(sectors)]
+    for cv in spokes + chords:
+        geo.mesh.setTransfiniteCurve(cv, 2)
+    tip_point[k] = (centre, ring_pts[0])
+    spoke[k] = spokes[0]
+    return loops, geo.addCurveLoop(chords)
+
+
+def _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed, vertex_tags, curves_of):
+    """The crack curves of the fractures in `group` (as _mesh_with_gmsh builds
+    them): fills vertex_tags[f] and curves_of[f] ([(curve, f, d)] in order
+    along f, the rosettes' spokes on the crack included); returns (curves to
+    embed, the other half's curves)."""
+    for f in group:
+        pts = plan.fractures[f]
+        tags = [0] * len(pts)
+        for end, i in ((0, 0), (1, len(pts) - 1)):
+            if (f, end) in plan.mouth_anchor:
+                tags[i] = anchor_tag[plan.mouth_anchor[(f, end)]]
+            elif (f, end) in tip_of and spoke[tip_of[(f, end)]] is not None:
+                tags[i] = tip_point[tip_of[(f, end)]][1]
+        joined = {0 if end == 0 else len(pts) - 1 for (g, end) in plan.junction if g == f}
+        for i in range(len(pts)):
+            if not tags[i] and i not in joined:
+                tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
+        vertex_tags[f] = tags
+    for (f, end), (g, vertex) in plan.junction.items():
+        if f in group:  # a junction joins fractures of one side (they touch)
+            vertex_tags[f][0 if end == 0 else -1] = vertex_tags[g][vertex]
+    embedded, elsewhere = [], []
+    for f in group:
+        pts, tags, own = plan.fractures[f], vertex_tags[f], []
+        if (f, 0) in tip_of and spoke[tip_of[(f, 0)]] is not None:
+            own.append((spoke[tip_of[(f, 0)]], f, pts[1] - pts[0]))
+        for s in range(len(pts) - 1):
+            line = geo.addLine(tags[s], tags[s + 1])
+            if meshed(0.5 * (pts[s] + pts[s + 1])):
+                own.append((line, f, pts[s + 1] - pts[s]))
+                embedded.append(line)
+            else:
+                elsewhere.append(line)
+        if (f, 1) in tip_of and spoke[tip_of[(f, 1)]] is not None:
+            own.append((spoke[tip_of[(f, 1)]], f, pts[-1] - pts[-2]))
+        curves_of[f] = own
+    return embedded, elsewhere
+
+
+def _vertex_at(plan, anchor_tag, vertex_tags, geo, q) -> int:
+    """_divider_point with the fractures built so far (vertex_tags: f -> tags)."""
+    for k, (_, _, a) in enumerate(plan.anchors):
+        if np.array_equal(a, q):
+            return anchor_tag[k]
+    for f, tags in vertex_tags.items():
+        hit = np.flatnonzero(np.all(plan.fractures[f] == q, axis=1))
+        if len(hit):
+            return tags[int(hit[0])]
+    return geo.addPoint(q[0], q[1], 0.0)
+
+
 def _boundary_ring(domain, plan, geo, anchor_tag) -> list[tuple[int, str]]:
     """The outer boundary's points counter-clockwise, each with the name of the
     boundary curve that starts at it (a disc's arcs are filled to <= pi/2)."""
@@ -756,12 +1085,15 @@ def _rim_point(angle, domain, geo) -> int:
 
 
 def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, sizes=None, center=None,
-                box=None, scratch=None):
+                box=None, scratch=None, crack_groups=None):
     """h = min(size, h_ring + GRADING (r - h_tip), h_crack + GRADING dist, sizes): the rosette
     chord length at each ring, the crack size on the fracture, growing linearly; and the
     given size field (linear on its triangles), never below tip_size, sampled on a grid
     over `box` (lo (2,), hi (2,)) written into the directory `scratch`. With a `center`
-    the size field is made point-symmetric: sizes also bounds at the images 2 center - x."""
+    the size field is made point-symmetric: sizes also bounds at the images 2 center - x.
+    crack_groups: [(curves, their polylines)] each measured by a distance field of its
+    own (crack_curves then unused), so that one group's sampling does not depend on the
+    others' (the patch's far field and its inside)."""
     import gmsh
 
     field = gmsh.model.mesh.field
@@ -775,11 +1107,15 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
         d = field.add("Distance")
         field.setNumbers(d, "PointsList", [centre])
         parts.append(_threshold(d, h_ring, size, t.h, TIP_GRADING))
-    if crack_curves:
+    if crack_groups is None:
+        crack_groups = [(crack_curves, plan.fractures)]
+    for curves, polylines in crack_groups:
+        if not curves:
+            continue
         h_crack = min(size, CRACK_SIZE_IN_TIPS * tip_size)
-        longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in plan.fractures)
+        longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in polylines)
         d = field.add("Distance")
-        field.setNumbers(d, "CurvesList", crack_curves)
+        field.setNumbers(d, "CurvesList", curves)
         field.setNumber(d, "NumPointsPerCurve", int(min(20000, math.ceil(4.0 * longest / h_crack) + 2)))
         parts.append(_threshold(d, h_crack, size, 0.0))
     if sizes is not None:
@@ -900,15 +1236,18 @@ def _threshold(distance_field, h0, size, d0, grading=GRADING):
 # -- 3. read the mesh back ---------------------------------------------------------
 
 
-def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -> RawMesh:
+def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), far_surfaces=None,
+             mids=None) -> RawMesh:
     """The mesh gmsh made. tip_point: (centre, corner) point tags of each tip,
     corner None for a tip not meshed here (its nodes are -1); point_tags: of
     each bc point, None likewise; divider: curves whose nodes are returned as
-    divider_nodes."""
+    divider_nodes; far_surfaces: the surfaces whose cells are RawMesh.far
+    (None: far None); mids: {curve: (2,)} the mid node of one-edge curves
+    placed there."""
     import gmsh
 
     mesh = gmsh.model.mesh
-    _, tri = mesh.getElementsByType(9)  # 6-node triangles
+    element_tags, tri = mesh.getElementsByType(9)  # 6-node triangles
     tri = np.asarray(tri, dtype=np.int64).reshape(-1, 6)
     used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
     cells = cells.reshape(-1, 6).astype(np.int64)
@@ -922,6 +1261,12 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -
     def curve_edges(curve) -> np.ndarray:
         _, _, nodes = mesh.getElements(1, abs(curve))
         return index(nodes[0]).reshape(-1, 3)
+
+    for curve, at in (mids or {}).items():
+        x[curve_edges(curve)[0, 2]] = at
+    far = None
+    if far_surfaces is not None:
+        far = np.isin(element_tags, np.concatenate([mesh.getElementsByType(9, s)[0] for s in far_surfaces]))
 
     # Counter-clockwise cells: swap v1 <-> v2 and m01 <-> m20 where the area is negative.
     v = x[cells[:, :3]]
@@ -961,6 +1306,7 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -
         tip_corner=np.array([point_node(r0) for _, r0 in tip_point], dtype=np.int64),
         point_nodes=np.array([point_node(tag) for tag in point_tags], dtype=np.int64),
         divider_nodes=np.unique(np.concatenate(on_divider)) if on_divider else np.zeros(0, np.int64),
+        far=far,
     )
 
 
