@@ -287,6 +287,7 @@ class PendingMesh:
             "symmetric": half is not None,
             "divider_angle": None if half is None else math.degrees(half.angle),
             "patch": self._job[5] is not None,
+            "far_reused": bool(raw.far_reused),  # the far field's cells from the last call's (_FarCache)
             # the divider inside the patch circle (symmetric meshes with a patch; its own, see point_symmetry.Inner)
             "inner_divider_angle": None if half is None or half.inner is None else math.degrees(half.inner.angle),
             "seconds_split": t_split,
@@ -526,8 +527,14 @@ def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_siz
         try:
             gmsh.option.setNumber("General.Terminal", 0)
             if circle is not None:
-                return _mesh_patched(domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes,
-                                     scratch, circle)
+                args = (domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes, scratch, circle)
+                try:
+                    return _mesh_patched(*args)
+                except _CacheMiss:  # a fresh session, the far field meshed too
+                    gmsh.finalize()
+                    gmsh.initialize(readConfigFiles=False)
+                    gmsh.option.setNumber("General.Terminal", 0)
+                    return _mesh_patched(*args, reuse=False)
             return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes,
                                    scratch)
         except Exception as error:  # gmsh raises bare Exception
@@ -734,6 +741,108 @@ class _Circle:
         return cls(c, float(radius), pts, mids)
 
 
+class _CacheMiss(RuntimeError):
+    """A cached far field that does not fit the mesh made around it."""
+
+
+class _FarCache:
+    """The far field this process meshed last (in the meshing worker: across
+    calls), so that a call whose far field is the same does not mesh it
+    again: its surfaces are hidden from gmsh (Mesh.MeshOnlyVisible; their
+    boundary curves are still meshed, alike), and its cells are taken from
+    here, glued by their nodes on those curves, which carry the same bits
+    (tests/test_meshing_patch.py: the mesh is then bitwise the one that
+    meshing it gives). Only the last far field is kept: a propagation
+    loop's far field changes seldom and is large."""
+
+    _last: tuple | None = None
+
+    @staticmethod
+    def key(domain, plan, inside, circle, half, size, tip_size, sectors, sizes, mirror_sizes, algorithm) -> bytes:
+        """A digest of everything the far field's mesh depends on: the domain,
+        the anchors, the fractures and tips outside the circle (by their
+        place among those outside), the circle, the outer divider, the
+        sizes and the size field, the algorithm."""
+        import hashlib
+        import pickle
+
+        group = [f for f, i in enumerate(inside) if not i]
+        where = {f: k for k, f in enumerate(group)}
+
+        def b(a) -> bytes:
+            return np.ascontiguousarray(a, dtype=np.float64).tobytes()
+
+        parts = (
+            domain.shape, b(domain.center) if domain.shape == "disc" else b(domain.vertices()),
+            float(domain.radius) if domain.shape == "disc" else 0.0,
+            [(e, float(t), b(p)) for e, t, p in plan.anchors],
+            [b(plan.fractures[f]) for f in group],
+            sorted((where[f], end, a) for (f, end), a in plan.mouth_anchor.items() if f in where),
+            sorted((where[f], end, where.get(g, -1), v) for (f, end), (g, v) in plan.junction.items() if f in where),
+            [(where[t.fracture], t.end, b(t.x), b(t.back), float(t.h)) for t in plan.tips if t.fracture in where],
+            b(circle.center), float(circle.radius), b(circle.points), b(circle.mids),
+            None if half is None else (b(half.center), b(half.u), b(half.points), half.k_out),
+            float(size), float(tip_size), int(sectors), bool(mirror_sizes), int(algorithm),
+            None if sizes is None else (b(sizes[0]), b(sizes[1])),
+        )
+        return hashlib.sha256(pickle.dumps(parts)).digest()
+
+    @classmethod
+    def get(cls, key):
+        return cls._last[1] if cls._last is not None and cls._last[0] == key else None
+
+    @classmethod
+    def put(cls, key, cells, interior) -> None:
+        cls._last = (key, (np.array(cells, dtype=np.float64), np.array(interior, dtype=bool)))
+
+    @classmethod
+    def clear(cls) -> None:
+        cls._last = None
+
+    @staticmethod
+    def merge(cached, far_surfaces, tri, far, tags, xyz):
+        """gmsh's cells (tri (m, 6) node tags; none of them far) with the cached
+        far cells in front: a cached node on the far field's boundary is
+        gmsh's node of the same coordinates (same bits), a cached interior
+        node a new tag. Raises _CacheMiss when a boundary node has no match."""
+        import gmsh
+
+        cells, interior = cached
+        if far.any():
+            raise _CacheMiss("the far surfaces were meshed")
+        on = set()
+        for _, tag in gmsh.model.getBoundary([(2, s) for s in far_surfaces], combined=False, oriented=False):
+            on.add(abs(tag))
+        for s in far_surfaces:  # the fractures outside, embedded in the far surface
+            on.update(abs(t) for dim, t in gmsh.model.mesh.getEmbedded(2, s) if dim == 1)
+        on_tags = np.unique(np.concatenate([np.zeros(0, np.int64)] + [
+            np.asarray(gmsh.model.mesh.getNodes(1, curve, includeBoundary=True, returnParametricCoord=False)[0],
+                       dtype=np.int64) for curve in sorted(on)]))
+        by_tag = np.argsort(tags)
+        known, first = np.unique(_bits(xyz[by_tag[np.searchsorted(tags[by_tag], on_tags)]]), return_index=True)
+        known_tag = on_tags[first]
+        flat, inner = cells.reshape(-1, 2), interior.ravel()
+        out = np.empty(len(flat), dtype=np.int64)
+        want = _bits(flat[~inner])
+        j = np.minimum(np.searchsorted(known, want), max(len(known) - 1, 0))
+        if len(want) and (not len(known) or np.any(known[j] != want)):
+            raise _CacheMiss("a node of the far field's boundary is not in the mesh")
+        out[~inner] = known_tag[j]
+        top = int(tags.max()) + 1 if len(tags) else 1
+        _, first, fresh = np.unique(_bits(flat[inner]), return_index=True, return_inverse=True)
+        out[inner] = top + fresh.ravel()
+        tri = np.concatenate([out.reshape(-1, 6), tri])
+        far = np.concatenate([np.ones(len(cells), dtype=bool), far])
+        tags = np.concatenate([tags, np.arange(top, top + len(first), dtype=np.int64)])
+        xyz = np.concatenate([xyz, flat[inner][first]])
+        return tri, far, tags, xyz
+
+
+def _bits(a) -> np.ndarray:
+    """(n, 2) float64 rows as (n,) keys that compare and sort by their bits."""
+    return np.ascontiguousarray(a, dtype=np.float64).view(np.dtype((np.void, 16))).ravel()
+
+
 def _patch_clearance(size: float, tip_size: float, tip_h: float | None = None, sectors: int = 16) -> float:
     """The least distance between the patch circle and a fracture (tip_h None)
     or a tip with rosette radius tip_h. The size field (_size_field) is a min
@@ -788,7 +897,7 @@ def _patch_circle(domain, plan: _Plan, frame, patch, size, tip_size, sectors) ->
 
 
 def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes, scratch,
-                  circle: _Circle) -> RawMesh:
+                  circle: _Circle, reuse: bool = True) -> RawMesh:
     """_mesh_with_gmsh with a patch circle: the far field (outside the circle:
     the outer boundary, the fractures and tips there, the divider outside)
     is built first, so that its entities have the lowest tags and its
@@ -796,7 +905,9 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     random perturbation of its Delaunay insertion restarts with each
     generate: nothing inside can reach the far surface's meshing); then the
     inside. With `half`: the far half on the left of the outer divider, the
-    patch half on the left of the inner one (point_symmetry.Inner)."""
+    patch half on the left of the inner one (point_symmetry.Inner).
+    When the far field is the one this process meshed last (_FarCache), its
+    surfaces are not meshed (reuse False: meshed in any case)."""
     import gmsh
 
     geo = gmsh.model.geo
@@ -804,6 +915,8 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     meshed = (lambda x: True) if half is None else half.left
     c, r, n = circle.center, circle.radius, len(circle.points)
     inside = [bool(np.linalg.norm(p[0] - c) < r) for p in plan.fractures]
+    key = _FarCache.key(domain, plan, inside, circle, half, size, tip_size, sectors, sizes, mirror_sizes, algorithm)
+    cached = _FarCache.get(key) if reuse else None
 
     anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
     ring = _boundary_ring(domain, plan, geo, anchor_tag)
@@ -891,6 +1004,10 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     _size_field(plan, [centre for centre, _ in tip_point], [], size, tip_size, sectors,
                 sizes, half.center if mirror_sizes else None, _box(domain), scratch, crack_groups=groups)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
+    far_surfaces = [sides[0][0]] + [s for s, _ in sides[0][1]]
+    if cached is not None:  # the far surfaces' boundaries are meshed (visible), the surfaces not
+        gmsh.model.setVisibility([(2, s) for s in far_surfaces], 0, recursive=False)
+        gmsh.option.setNumber("Mesh.MeshOnlyVisible", 1)
     gmsh.model.mesh.generate(2)
     gmsh.model.mesh.setOrder(2)
 
@@ -907,10 +1024,14 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
         # an arc in one half's boundary only: its image is the other's (glue mirrors their nodes)
         mirrored_arcs = [arcs[j] for j in sorted(far_arcs ^ patch_arcs)]
     crack_curves = [cv for f in range(len(plan.fractures)) for cv in curves_of[f]]
-    (far, far_rosettes, far_divider, _, _, _), (_, _, inner_divider, _, _, _) = sides
-    return _extract(boundary_curves, crack_curves, tip_point, points, far_divider + inner_divider + mirrored_arcs,
-                    far_surfaces=[far] + [s for s, _ in far_rosettes],
-                    mids={arcs[j]: circle.mids[j] for j in used_arcs})
+    (_, _, far_divider, _, _, _), (_, _, inner_divider, _, _, _) = sides
+    info: dict = {}
+    raw = _extract(boundary_curves, crack_curves, tip_point, points, far_divider + inner_divider + mirrored_arcs,
+                   far_surfaces=far_surfaces, mids={arcs[j]: circle.mids[j] for j in used_arcs},
+                   far_cells=cached, info=None if cached is not None else info)
+    if cached is None:
+        _FarCache.put(key, raw.x[raw.cells[raw.far]], info["far_interior"])
+    return raw
 
 
 def _rosette_curves(geo, t, sectors, meshed, tip_point, spoke, k):
@@ -1237,26 +1358,64 @@ def _threshold(distance_field, h0, size, d0, grading=GRADING):
 
 
 def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), far_surfaces=None,
-             mids=None) -> RawMesh:
+             mids=None, far_cells=None, info=None) -> RawMesh:
     """The mesh gmsh made. tip_point: (centre, corner) point tags of each tip,
     corner None for a tip not meshed here (its nodes are -1); point_tags: of
     each bc point, None likewise; divider: curves whose nodes are returned as
     divider_nodes; far_surfaces: the surfaces whose cells are RawMesh.far
-    (None: far None); mids: {curve: (2,)} the mid node of one-edge curves
-    placed there."""
+    (None: far None; else the far cells come first and the nodes are
+    numbered in the order the cells meet them, not in gmsh's tag order);
+    mids: {curve: (2,)} the mid node of one-edge curves placed there;
+    far_cells: a far field meshed before (_FarCache), its surfaces not
+    meshed now; info: a dict, given "far_interior" (as _FarCache keeps it)."""
     import gmsh
 
     mesh = gmsh.model.mesh
     element_tags, tri = mesh.getElementsByType(9)  # 6-node triangles
     tri = np.asarray(tri, dtype=np.int64).reshape(-1, 6)
-    used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
-    cells = cells.reshape(-1, 6).astype(np.int64)
-    tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
-    order = np.argsort(tags)
-    x = np.asarray(coords).reshape(-1, 3)[order][np.searchsorted(np.asarray(tags)[order], used), :2].copy()
+    if far_surfaces is None:
+        used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
+        cells = cells.reshape(-1, 6).astype(np.int64)
+        tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
+        order = np.argsort(tags)
+        x = np.asarray(coords).reshape(-1, 3)[order][np.searchsorted(np.asarray(tags)[order], used), :2].copy()
 
-    def index(node_tags) -> np.ndarray:
-        return np.searchsorted(used, np.asarray(node_tags, dtype=np.int64))
+        def index(node_tags) -> np.ndarray:
+            return np.searchsorted(used, np.asarray(node_tags, dtype=np.int64))
+        far = None
+    else:
+        tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
+        tags = np.asarray(tags, dtype=np.int64)
+        xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[:, :2]
+        far_tags = np.concatenate([np.asarray(mesh.getElementsByType(9, s)[0], dtype=np.int64)
+                                   for s in far_surfaces])
+        far = np.isin(np.asarray(element_tags, dtype=np.int64), far_tags)
+        if mids:
+            mid_tags = np.array([mesh.getElements(1, curve)[2][0][2] for curve in mids], dtype=np.int64)
+            by_tag = np.argsort(tags)
+            xyz[by_tag[np.searchsorted(tags[by_tag], mid_tags)]] = np.array(list(mids.values()), dtype=np.float64)
+        mids = None
+        if far_cells is not None:
+            tri, far, tags, xyz = _FarCache.merge(far_cells, far_surfaces, tri, far, tags, xyz)
+        by_tag = np.argsort(tags)
+        tri = _canonical_cells(tri, xyz[by_tag][np.searchsorted(tags[by_tag], tri[:, :3])])
+        # far cells first (stable), nodes numbered as the cells meet them: the far field's
+        # numbering is then the same in every call that meshes it alike, whatever gmsh's tags
+        order = np.argsort(~far, kind="stable")
+        tri, far = tri[order], far[order]
+        flat = tri.ravel()
+        uniq, first = np.unique(flat, return_index=True)
+        rank = np.empty(len(uniq), dtype=np.int64)
+        rank[np.argsort(first)] = np.arange(len(uniq))
+        x = xyz[by_tag][np.searchsorted(tags[by_tag], flat[np.sort(first)])].copy()
+
+        def index(node_tags) -> np.ndarray:
+            return rank[np.searchsorted(uniq, np.asarray(node_tags, dtype=np.int64))]
+        cells = index(tri)
+        if info is not None:
+            interior = np.concatenate([np.asarray(mesh.getNodes(2, s, includeBoundary=False)[0], dtype=np.int64)
+                                       for s in far_surfaces])
+            info["far_interior"] = np.isin(tri[far], interior)
 
     def curve_edges(curve) -> np.ndarray:
         _, _, nodes = mesh.getElements(1, abs(curve))
@@ -1264,9 +1423,6 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), f
 
     for curve, at in (mids or {}).items():
         x[curve_edges(curve)[0, 2]] = at
-    far = None
-    if far_surfaces is not None:
-        far = np.isin(element_tags, np.concatenate([mesh.getElementsByType(9, s)[0] for s in far_surfaces]))
 
     # Counter-clockwise cells: swap v1 <-> v2 and m01 <-> m20 where the area is negative.
     v = x[cells[:, :3]]
@@ -1307,7 +1463,26 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), f
         point_nodes=np.array([point_node(tag) for tag in point_tags], dtype=np.int64),
         divider_nodes=np.unique(np.concatenate(on_divider)) if on_divider else np.zeros(0, np.int64),
         far=far,
+        far_reused=far_cells is not None,
     )
+
+
+def _canonical_cells(tri, v) -> np.ndarray:
+    """P2 cells (m, 6) counter-clockwise and each starting at its lowest
+    vertex (by x, then y; v (m, 3, 2) the vertices): which vertex gmsh puts
+    first follows its node tags, which differ between a mesh made whole and
+    one made with the far field reused (_FarCache)."""
+    area2 = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    flip = area2 < 0
+    tri, v = tri.copy(), v.copy()
+    tri[flip] = tri[flip][:, [0, 2, 1, 5, 4, 3]]
+    v[flip] = v[flip][:, [0, 2, 1]]
+    k = np.zeros(len(tri), dtype=np.int64)
+    for j in (1, 2):
+        a, b = v[np.arange(len(v)), k], v[:, j]
+        k = np.where((b[:, 0] < a[:, 0]) | ((b[:, 0] == a[:, 0]) & (b[:, 1] < a[:, 1])), j, k)
+    turn = np.array([[0, 1, 2, 3, 4, 5], [1, 2, 0, 4, 5, 3], [2, 0, 1, 5, 3, 4]])
+    return np.take_along_axis(tri, turn[k], axis=1)
 
 
 # -- 4. tips after the split -----------------------------------------------------

@@ -481,6 +481,7 @@ def glue(raw: RawMesh, half: Half, domain, tip_image: list[int], point_image: li
         point_nodes=np.array(through(raw.point_nodes, point_image), dtype=np.int64),
         divider_nodes=np.zeros(0, np.int64),
         far=None if raw.far is None else np.concatenate([raw.far, raw.far]),
+        far_reused=raw.far_reused,
     )
 
 

@@ -65,6 +65,8 @@ class RawMesh:
     #: (m,) bool: True for the cells of the far field (outside crack_mesh's
     #: patch circle; after glue: then their images); None without a patch.
     far: np.ndarray | None = None
+    #: True when the far field's cells were taken from the last call's (crack_mesh._FarCache).
+    far_reused: bool = False
 
 
 @dataclass(frozen=True, eq=False)

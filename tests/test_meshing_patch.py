@@ -17,6 +17,13 @@ geometry's mesh against its half-turn image (as tests/test_meshing_symmetry.py),
 and the tips, rosettes and face pairs against the mesh of the same geometry
 without a patch. A patch that does not fit is ignored: the mesh is then
 the one without a patch, array for array.
+
+The mesher keeps the last far field it meshed and does not mesh it again
+when a call's far field is the same (crack_mesh._FarCache). The identity
+tests switch that off (every call meshes its far field: they compare two
+meshings, not a cache with itself); the reuse tests compare the mesh made
+with a reused far field against the one made meshing it, every array
+bit for bit.
 """
 import importlib
 
@@ -41,6 +48,16 @@ RECT_PATCH = (np.array([0.066, 0.033]), 0.016)
 OUTSIDE = np.array([[0.015, 0.02], [0.03, 0.026]])  # a fracture wholly outside RECT_PATCH
 
 ROUND_OFF = 1e-12  # of the domain's size, as tests/test_meshing_symmetry.py
+
+
+@pytest.fixture(autouse=True)
+def mesh_every_far_field(request, monkeypatch):
+    """No far field reused, but in the tests of the reuse (test_reuse_*)."""
+    crack_mesh_module._FarCache.clear()
+    if not request.function.__name__.startswith("test_reuse"):
+        monkeypatch.setattr(crack_mesh_module._FarCache, "get", classmethod(lambda cls, key: None))
+    yield
+    crack_mesh_module._FarCache.clear()
 
 
 def crack(phi_deg, half=0.005, at=(0.0, 0.0)):
@@ -74,6 +91,7 @@ def far_field(mesh):
 
 def assert_same_far_field(a, b):
     assert a.stats["patch"] and b.stats["patch"]
+    assert not a.stats["far_reused"] and not b.stats["far_reused"]
     for what, p, q in zip(("far cells", "boundary edges", "bc points"), far_field(a), far_field(b)):
         assert p.shape == q.shape, what
         assert np.array_equal(p, q), what
@@ -306,3 +324,73 @@ def test_patch_centre_within_round_off_of_the_centre_is_snapped():
     assert b.stats["symmetric"] and b.stats["patch"]
     for name in ("x", "cells", "far"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
+
+
+# -- the far field reused -------------------------------------------------------------
+
+ARRAYS = ("x", "cells", "far", "boundary_edges", "boundary_tags", "pairs", "pair_normal", "pair_fracture",
+          "crack_edges", "crack_edges_minus", "crack_fracture", "point_nodes")
+
+
+def assert_same_mesh(a, b):
+    for name in ARRAYS:
+        p, q = getattr(a, name), getattr(b, name)
+        assert np.shape(p) == np.shape(q) and np.array_equal(bits(p) if p.dtype == np.float64 else p,
+                                                             bits(q) if q.dtype == np.float64 else q), name
+    assert len(a.tips) == len(b.tips)
+    for t, s in zip(a.tips, b.tips):
+        assert (t.node, t.upper, t.lower, t.h) == (s.node, s.upper, s.lower, s.h)
+        assert np.array_equal(t.x, s.x) and np.array_equal(t.ex, s.ex)
+
+
+OUT = np.array([[0.031, 0.006], [0.034, 0.012]])
+REUSE_CASES = {
+    "disc": (DISC, [crack(135)], [winged(135, 0.0015, kink_deg=50)], DISC_POINTS, DISC_MESH, DISC_PATCH, False),
+    "disc, fractures outside": (DISC, [crack(135), OUT, -OUT[::-1]], [crack(30), OUT, -OUT[::-1]], DISC_POINTS,
+                                DISC_MESH, DISC_PATCH, False),
+    "disc, sizes": (DISC, [crack(135)], [winged(135, 0.002)], DISC_POINTS, DISC_MESH, DISC_PATCH, True),
+    "rectangle": (RECT, [crack(10, 0.003, RECT_PATCH[0]), OUTSIDE], [crack(40, 0.0035, RECT_PATCH[0]), OUTSIDE],
+                  RECT_POINTS, RECT_MESH, RECT_PATCH, False),
+}
+
+
+@pytest.mark.parametrize("name", list(REUSE_CASES))
+def test_reuse_of_the_far_field_gives_the_mesh_meshing_it_gives(name):
+    domain, first, second, points, kw, patch, sized = REUSE_CASES[name]
+    sizes = disc_sizes(False) if sized else None
+    a = crack_mesh(domain, first, points, **kw, sizes=sizes, patch=patch)
+    reused = crack_mesh(domain, second, points, **kw, sizes=sizes, patch=patch)
+    crack_mesh_module._FarCache.clear()
+    meshed = crack_mesh(domain, second, points, **kw, sizes=sizes, patch=patch)
+    assert not a.stats["far_reused"] and reused.stats["far_reused"] and not meshed.stats["far_reused"]
+    assert_same_mesh(reused, meshed)
+    assert_valid(reused, patch)
+
+
+def test_reuse_only_when_the_far_field_is_the_same():
+    """Another size field, another fracture outside, another patch: meshed."""
+    a = crack_mesh(RECT, [crack(10, 0.003, RECT_PATCH[0]), OUTSIDE], RECT_POINTS, **RECT_MESH, patch=RECT_PATCH)
+    assert not a.stats["far_reused"]
+    moved = OUTSIDE + [0.0, 0.001]
+    for fractures, patch in (([crack(10, 0.003, RECT_PATCH[0]), moved], RECT_PATCH),
+                             ([crack(10, 0.003, RECT_PATCH[0]), OUTSIDE], (RECT_PATCH[0], 0.0161))):
+        crack_mesh(RECT, [crack(10, 0.003, RECT_PATCH[0]), OUTSIDE], RECT_POINTS, **RECT_MESH, patch=RECT_PATCH)
+        b = crack_mesh(RECT, fractures, RECT_POINTS, **RECT_MESH, patch=patch)
+        assert b.stats["patch"] and not b.stats["far_reused"]
+    sizes = disc_sizes(False)
+    crack_mesh(DISC, [crack(135)], DISC_POINTS, **DISC_MESH, sizes=sizes, patch=DISC_PATCH)
+    b = crack_mesh(DISC, [crack(135)], DISC_POINTS, **DISC_MESH, sizes=(sizes[0], 1.01 * sizes[1]),
+                   patch=DISC_PATCH)
+    assert not b.stats["far_reused"]
+
+
+def test_reuse_in_the_meshing_worker():
+    """With a time limit gmsh runs in the meshing worker, which keeps the
+    far field across calls: the same mesh as meshing it here."""
+    kw = dict(DISC_MESH, patch=DISC_PATCH, timeout=60.0)
+    crack_mesh(DISC, [crack(135)], DISC_POINTS, **kw)
+    reused = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **kw)
+    assert reused.stats["far_reused"]
+    meshed = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
+    assert not meshed.stats["far_reused"]
+    assert_same_mesh(reused, meshed)
