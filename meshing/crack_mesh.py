@@ -18,6 +18,12 @@ on one side of a straight divider through the centre, the other half is its
 image, so symmetric problems give symmetric answers to round-off
 (stats["symmetric"]).
 
+With a `patch` circle the mesh inside it and outside it are separate gmsh
+surfaces, the outside (the far field) built and meshed first, so that the
+far field comes out bitwise the same whatever the fractures inside: its
+factorisation can be kept from one propagation step to the next. A far
+field that is the same as the last call's is not meshed again (_FarCache).
+
 Lengths in metres. Node order in cells is gmsh's [v0, v1, v2, m01, m12, m20],
 counter-clockwise. Fracture direction d runs from a polyline's first point to
 its last; the + face is on the left of d.
@@ -901,10 +907,10 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     """_mesh_with_gmsh with a patch circle: the far field (outside the circle:
     the outer boundary, the fractures and tips there, the divider outside)
     is built first, so that its entities have the lowest tags and its
-    surface is meshed first (gmsh meshes surfaces in tag order, and the
-    random perturbation of its Delaunay insertion restarts with each
-    generate: nothing inside can reach the far surface's meshing); then the
-    inside. With `half`: the far half on the left of the outer divider, the
+    surface is meshed first (gmsh meshes surfaces in tag order; meshed
+    after the inside, the far surface of one of the identity tests came
+    out otherwise, the inside's meshing changing the state gmsh starts
+    the next surface from; meshed first, none did); then the inside. With `half`: the far half on the left of the outer divider, the
     patch half on the left of the inner one (point_symmetry.Inner).
     When the far field is the one this process meshed last (_FarCache), its
     surfaces are not meshed (reuse False: meshed in any case)."""

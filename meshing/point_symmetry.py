@@ -14,6 +14,11 @@ half is the exact image R of the first. The glued mesh maps onto itself node
 for node, so the discrete solution, the SIFs, the kinks and the next
 geometry are point-symmetric to round-off.
 
+With a patch circle about the centre (crack_mesh's `patch`) the divider
+has two parts, one outside the circle chosen from what lies outside only
+and one inside (Inner), both ending on nodes of the circle: the far field's
+half stays the same whatever the fractures inside do to the divider there.
+
 Pure numpy: the geometry tests (is it symmetric, where may the divider go),
 the insertion of the divider's crossings into the fractures, and the gluing
 of the meshed half to its image.
@@ -307,7 +312,7 @@ def _outer_piece(domain, polylines, tip_x, fixed, c, u, q, tip_size, radius, tol
         return None
     p = _boundary_hit(domain, c, u)
     for a in fixed:
-        if np.linalg.norm(a - p) < ANCHOR_CLEARANCE * tip_size or np.linalg.norm(a - rotate(p, c)) < ANCHOR_CLEARANCE * tip_size:
+        if min(np.linalg.norm(a - p), np.linalg.norm(a - rotate(p, c))) < ANCHOR_CLEARANCE * tip_size:
             return None
     found = _crossings_along(polylines, c, u, tip_size, tol)
     if found is None:

@@ -203,6 +203,26 @@ def test_disc_with_fractures_outside_the_circle():
         assert np.all(a.far[np.any(a.cells[:, :3] == t.node, axis=1)])
 
 
+def test_symmetric_rectangle_off_the_origin():
+    """A centre crack in a plate: the centre is not gmsh's origin, so 2c - x
+    rounds, and the circle's nodes must still come out the same bits
+    whichever half of the circle gmsh meshes (the inner divider turns)."""
+    c = np.array([0.05, 0.03])
+    points = [np.array([0.05, 0.0]), np.array([0.05, 0.06])]
+    kw = dict(size=0.002, tip_size=0.0005, sectors=16)
+    patch = (c, 0.02)
+    meshes = [crack_mesh(RECT, f, points, **kw, patch=patch)
+              for f in ([crack(20, 0.004, c)], [winged(20, 0.002) + c], [crack(100, 0.004, c)])]
+    assert len({m.stats["inner_divider_angle"] for m in meshes}) >= 2
+    for m in meshes:
+        assert m.stats["symmetric"]
+        assert_valid(m, patch)
+        d, _ = cKDTree(m.x).query(2 * c - m.x)
+        assert d.max() / 0.1 < ROUND_OFF
+    for m in meshes[1:]:
+        assert_same_far_field(meshes[0], m)
+
+
 def disc_sizes(symmetric: bool):
     """A size field on the triangles of a coarse mesh of the disc: finer
     towards a point (off the centre unless `symmetric`), asking for less
@@ -394,3 +414,19 @@ def test_reuse_in_the_meshing_worker():
     meshed = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     assert not meshed.stats["far_reused"]
     assert_same_mesh(reused, meshed)
+
+
+def test_reuse_of_a_far_field_that_does_not_fit_meshes_it():
+    """A kept far field whose boundary node is off by one ulp (as if gmsh
+    had meshed a boundary curve otherwise): not glued, meshed instead."""
+    crack_mesh(DISC, [crack(135)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
+    key, (cells, interior) = crack_mesh_module._FarCache._last
+    k = np.flatnonzero(~interior.ravel())[0]
+    cells = cells.copy()
+    cells.reshape(-1, 2)[k, 0] = np.nextafter(cells.reshape(-1, 2)[k, 0], np.inf)
+    crack_mesh_module._FarCache._last = (key, (cells, interior))
+    again = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
+    assert again.stats["patch"] and not again.stats["far_reused"]
+    crack_mesh_module._FarCache.clear()
+    meshed = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
+    assert_same_mesh(again, meshed)
