@@ -181,16 +181,16 @@ def start_crack_mesh(
     size, tip_size = size / frame.scale, tip_size / frame.scale
     if sizes is not None:
         sizes = (frame.to(sizes[0]), np.asarray(sizes[1], dtype=np.float64) / frame.scale)
-    circle = None if patch is None else _patch_circle(domain, plan, frame, patch, size, tip_size, sectors)
+    circle = None if patch is None else _patch_circle(domain, plan, frame, patch, size, tip_size, sectors, sizes)
     tips, anchors = [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors]
     half, centre = None, point_symmetry.domain_center(domain)
     if circle is not None and centre is not None and \
             np.linalg.norm(circle.center - centre) <= 1e-9 * domain.length_scale():
-        circle = _Circle.of(centre, circle.radius, size)
+        circle = _Circle.of(centre, circle.radius, circle.spacing)
         half = point_symmetry.find_half_patched(domain, plan.fractures, tips, anchors, tip_size, circle.radius,
                                                 circle.points)
         if half is not None:
-            circle = _Circle.of(centre, circle.radius, size, half.k_out)
+            circle = _Circle.of(centre, circle.radius, circle.spacing, half.k_out)
     if half is None:
         half = point_symmetry.find_half(domain, plan.fractures, tips, anchors, tip_size)
         if half is not None:
@@ -718,7 +718,7 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
 @dataclass(frozen=True)
 class _Circle:
     """The patch circle in gmsh's frame and its fixed 1D mesh: N nodes (N even,
-    spacing <= size, counter-clockwise from angle pi/N) joined by N arcs of
+    at most `spacing` apart, counter-clockwise from angle pi/N) joined by N arcs of
     one edge each, mid node k at the middle of the arc from node k to k + 1.
     Fixed nodes, not gmsh's meshing of the circle, because a symmetric
     geometry's dividers end on them: where they end then changes nothing on
@@ -730,13 +730,14 @@ class _Circle:
 
     center: np.ndarray
     radius: float
+    spacing: float
     points: np.ndarray  # (N, 2)
     mids: np.ndarray  # (N, 2)
 
     @classmethod
-    def of(cls, center, radius: float, size: float, k_out: int | None = None) -> _Circle:
+    def of(cls, center, radius: float, spacing: float, k_out: int | None = None) -> _Circle:
         c = np.asarray(center, dtype=np.float64)
-        n = max(8, 2 * math.ceil(math.pi * radius / size))
+        n = max(8, 2 * math.ceil(math.pi * radius / spacing))
         angle = 2.0 * math.pi * (np.arange(n) + 0.5) / n
         pts = c + radius * np.stack([np.cos(angle), np.sin(angle)], axis=1)
         mids = c + radius * np.stack([np.cos(angle + math.pi / n), np.sin(angle + math.pi / n)], axis=1)
@@ -744,7 +745,7 @@ class _Circle:
             own = (k_out + np.arange(n // 2)) % n
             pts[(own + n // 2) % n] = point_symmetry.rotate(pts[own], c)
             mids[(own + n // 2) % n] = point_symmetry.rotate(mids[own], c)
-        return cls(c, float(radius), pts, mids)
+        return cls(c, float(radius), float(spacing), pts, mids)
 
 
 class _CacheMiss(RuntimeError):
@@ -869,13 +870,19 @@ def _patch_clearance(size: float, tip_size: float, tip_h: float | None = None, s
     return 2.0 * size + tip_h + (size - 2.0 * tip_h * math.sin(math.pi / sectors)) / TIP_GRADING
 
 
-def _patch_circle(domain, plan: _Plan, frame, patch, size, tip_size, sectors) -> _Circle | None:
+def _patch_circle(domain, plan: _Plan, frame, patch, size, tip_size, sectors, sizes=None) -> _Circle | None:
     """The patch (center, radius; the caller's frame) in gmsh's frame, or None
     when it does not fit: the circle within the domain and 2 size off its
     boundary and off every anchor (bc points, crack mouths), every fracture
     wholly inside or wholly outside it and _patch_clearance away from it,
     every tip likewise. Never an error: a patch that does not fit only
-    costs the caller the reuse."""
+    costs the caller the reuse. Its nodes are `size` apart, or as far apart
+    as the smallest of the size field `sizes` (gmsh's frame) on the
+    triangles that meet the circle asks, and then the size field grades the
+    cells from that spacing on the circle (_size_field): where the field
+    varies along the circle, one spacing fits it nowhere but at its finest
+    (cells on the circle came out 0.6-0.7 in shape, against 0.9 in a
+    uniform field)."""
     try:
         c = frame.to(np.asarray(patch[0], dtype=np.float64).reshape(2))
         r = float(patch[1]) / frame.scale
@@ -899,7 +906,16 @@ def _patch_circle(domain, plan: _Plan, frame, patch, size, tip_size, sectors) ->
     for t in plan.tips:
         if abs(np.linalg.norm(t.x - c) - r) < _patch_clearance(size, tip_size, t.h, sectors):
             return None
-    return _Circle.of(c, r, size)
+    spacing = size
+    if sizes is not None and len(sizes[0]):
+        tri = np.asarray(sizes[0], dtype=np.float64)
+        vals = np.asarray(sizes[1], dtype=np.float64).reshape(len(tri), 3)
+        d = np.linalg.norm(tri - c, axis=2)
+        edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+        meets = (d.min(axis=1) - edge <= r) & (d.max(axis=1) >= r)  # the nearest point is within an edge of a vertex
+        if meets.any():
+            spacing = min(size, max(tip_size, float(vals[meets].min())))
+    return _Circle.of(c, r, spacing)
 
 
 def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes, scratch,
@@ -1008,7 +1024,8 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     groups = [(embedded + elsewhere, [plan.fractures[f] for f in group])
               for _, _, _, embedded, elsewhere, group in sides]
     _size_field(plan, [centre for centre, _ in tip_point], [], size, tip_size, sectors,
-                sizes, half.center if mirror_sizes else None, _box(domain), scratch, crack_groups=groups)
+                sizes, half.center if mirror_sizes else None, _box(domain), scratch, crack_groups=groups,
+                circle=(arcs, circle.spacing))
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     far_surfaces = [sides[0][0]] + [s for s, _ in sides[0][1]]
     if cached is not None:  # the far surfaces' boundaries are meshed (visible), the surfaces not
@@ -1212,7 +1229,7 @@ def _rim_point(angle, domain, geo) -> int:
 
 
 def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, sizes=None, center=None,
-                box=None, scratch=None, crack_groups=None):
+                box=None, scratch=None, crack_groups=None, circle=None):
     """h = min(size, h_ring + GRADING (r - h_tip), h_crack + GRADING dist, sizes): the rosette
     chord length at each ring, the crack size on the fracture, growing linearly; and the
     given size field (linear on its triangles), never below tip_size, sampled on a grid
@@ -1220,7 +1237,8 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
     the size field is made point-symmetric: sizes also bounds at the images 2 center - x.
     crack_groups: [(curves, their polylines)] each measured by a distance field of its
     own (crack_curves then unused), so that one group's sampling does not depend on the
-    others' (the patch's far field and its inside)."""
+    others' (the patch's far field and its inside); circle: (curves, spacing) the patch
+    circle, h <= spacing + GRADING dist: cells graded from its fixed nodes."""
     import gmsh
 
     field = gmsh.model.mesh.field
@@ -1245,6 +1263,11 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
         field.setNumbers(d, "CurvesList", curves)
         field.setNumber(d, "NumPointsPerCurve", int(min(20000, math.ceil(4.0 * longest / h_crack) + 2)))
         parts.append(_threshold(d, h_crack, size, 0.0))
+    if circle is not None and circle[1] < size:
+        d = field.add("Distance")
+        field.setNumbers(d, "CurvesList", circle[0])
+        field.setNumber(d, "NumPointsPerCurve", 4)  # the arcs are one spacing long
+        parts.append(_threshold(d, circle[1], size, 0.0))
     if sizes is not None:
         tri, vals = (np.asarray(a, dtype=np.float64) for a in sizes)
         vals = np.maximum(vals.reshape(len(tri), 3), tip_size)
