@@ -18,6 +18,12 @@ on one side of a straight divider through the centre, the other half is its
 image, so symmetric problems give symmetric answers to round-off
 (stats["symmetric"]).
 
+With a `patch` circle the mesh inside it and outside it are separate gmsh
+surfaces, the outside (the far field) built and meshed first, so that the
+far field comes out bitwise the same whatever the fractures inside: its
+factorisation can be kept from one propagation step to the next. A far
+field that is the same as the last call's is not meshed again (_FarCache).
+
 Lengths in metres. Node order in cells is gmsh's [v0, v1, v2, m01, m12, m20],
 counter-clockwise. Fracture direction d runs from a polyline's first point to
 its last; the + face is on the left of d.
@@ -57,16 +63,6 @@ CRACK_SIZE_IN_TIPS = 2.0
 ON_BOUNDARY = admissibility.REL_TOL
 
 
-def patch_clearance(size: float, tip_size: float) -> float:
-    """PROVISIONAL (s17-core): the room between a patch circle and any fracture."""
-    return 2.0 * size + (size - tip_size) / GRADING
-
-
-def patch_boundary_clearance(size: float, tip_size: float) -> float:
-    """PROVISIONAL (s17-core): the room between a patch circle and the outer boundary."""
-    return 2.0 * size
-
-
 @dataclass
 class TipNodes:
     """The nodes of one crack tip. `upper` is the face on the +y' side of the
@@ -101,7 +97,8 @@ class CrackMesh:
     point_nodes: np.ndarray  # (q,) node of each bc point (at a crack mouth: one of its 2 copies)
     crack_edges_minus: np.ndarray | None = None  # (k, 3) - face copy of crack_edges
     stats: dict = field(default_factory=dict)
-    far: np.ndarray | None = None  # (m,) bool: cells of the far field, outside the patch the remesher keeps
+    # (m,) True for the cells outside the patch circle (the far field); None without a patch
+    far: np.ndarray | None = None
 
 
 def crack_mesh(
@@ -113,6 +110,7 @@ def crack_mesh(
     sectors: int = 16,
     sizes: tuple[np.ndarray, np.ndarray] | None = None,
     timeout: float | None = None,
+    patch: tuple[np.ndarray, float] | None = None,
 ) -> CrackMesh:
     """Mesh `domain` with the `fractures` (polylines (n, 2)) as double-noded
     cracks and the bc `points` (on the boundary) as nodes.
@@ -125,6 +123,18 @@ def crack_mesh(
     the previous step); timeout: seconds gmsh may take (None: no limit); on
     timeout it is retried once with 1.5 times coarser `sizes` and another
     meshing algorithm, then MeshTimeout (a RuntimeError) is raised.
+    patch = (center (2,), radius): a circle (metres, the caller's frame) meshed
+    as a curve of its own, with the cells inside and outside it meshed as
+    separate gmsh surfaces, the outside first: then the cells outside (the
+    far field, CrackMesh.far) come out bitwise the same in every call with
+    the same domain, bc points, size, tip_size, sectors, sizes and patch and
+    the same fractures outside, whatever the fractures inside, and the
+    circle's nodes with them (node numbering may differ). A patch that does
+    not fit (_patch_circle: off the boundary and the bc points by 2 size,
+    every fracture wholly inside or outside and clear of it by
+    _patch_clearance) is ignored (stats["patch"] False, far None), as is one
+    not centred on the centre of a point-symmetric geometry (the symmetry is
+    kept instead; a centred one is used with it).
     A fracture end that lies on another fracture (or on a non-adjacent part of
     its own) is a T-junction: no rosette there, the other fracture is split at
     the point, and the junction node gets three copies.
@@ -137,7 +147,7 @@ def crack_mesh(
     comes out inverted. gmsh sees the geometry in an exact frame of its own
     (_Frame): any domain size and offset the rules allow mesh alike.
     """
-    return start_crack_mesh(domain, fractures, points, size, tip_size, sectors, sizes, timeout).result()
+    return start_crack_mesh(domain, fractures, points, size, tip_size, sectors, sizes, timeout, patch).result()
 
 
 def start_crack_mesh(
@@ -149,6 +159,7 @@ def start_crack_mesh(
     sectors: int = 16,
     sizes: tuple[np.ndarray, np.ndarray] | None = None,
     timeout: float | None = None,
+    patch: tuple[np.ndarray, float] | None = None,
 ) -> PendingMesh:
     """crack_mesh begun: the arguments are checked and the geometry planned
     here (ValueError at once, as crack_mesh raises it), gmsh's work is sent
@@ -170,9 +181,20 @@ def start_crack_mesh(
     size, tip_size = size / frame.scale, tip_size / frame.scale
     if sizes is not None:
         sizes = (frame.to(sizes[0]), np.asarray(sizes[1], dtype=np.float64) / frame.scale)
-    half = point_symmetry.find_half(
-        domain, plan.fractures, [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors], tip_size
-    )
+    circle = None if patch is None else _patch_circle(domain, plan, frame, patch, size, tip_size, sectors, sizes)
+    tips, anchors = [(t.x, t.h) for t in plan.tips], [p for _, _, p in plan.anchors]
+    half, centre = None, point_symmetry.domain_center(domain)
+    if circle is not None and centre is not None and \
+            np.linalg.norm(circle.center - centre) <= 1e-9 * domain.length_scale():
+        circle = _Circle.of(centre, circle.radius, circle.spacing)
+        half = point_symmetry.find_half_patched(domain, plan.fractures, tips, anchors, tip_size, circle.radius,
+                                                circle.points)
+        if half is not None:
+            circle = _Circle.of(centre, circle.radius, circle.spacing, half.k_out)
+    if half is None:
+        half = point_symmetry.find_half(domain, plan.fractures, tips, anchors, tip_size)
+        if half is not None:
+            circle = None  # symmetry first: a circle off the centre would break it
     if half is not None:
         plan = _with_divider(domain, plan, half)
 
@@ -181,7 +203,7 @@ def start_crack_mesh(
         halved = point_symmetry.sizes_for_half(*sizes, half, ON_BOUNDARY * domain.length_scale())
         mirror_sizes = halved is None  # not symmetric: bound by the field and its image
         sizes = sizes if halved is None else halved
-    return PendingMesh(domain, plan, frame, half, (size, tip_size, sectors, sizes, mirror_sizes), timeout,
+    return PendingMesh(domain, plan, frame, half, (size, tip_size, sectors, sizes, mirror_sizes, circle), timeout,
                        time.perf_counter() - t_start)
 
 
@@ -195,9 +217,11 @@ class PendingMesh:
         self._first = self.attempt(1.0, 6)
 
     def attempt(self, coarsen: float, algorithm: int):
-        size, tip_size, sectors, sizes, mirror_sizes = self._job
+        size, tip_size, sectors, sizes, mirror_sizes, circle = self._job
         scaled = None if sizes is None else (sizes[0], coarsen * np.asarray(sizes[1], dtype=np.float64))
         args = (self._domain, self._plan, size, tip_size, sectors, scaled, self._half, mirror_sizes, algorithm)
+        if circle is not None:
+            args += (circle,)
         return start_with_timeout(_gmsh_session, args, self._timeout)
 
     def cancel(self) -> None:
@@ -251,6 +275,7 @@ class PendingMesh:
             tips=tips,
             point_nodes=raw.point_nodes,
             crack_edges_minus=split.crack_edges_minus,
+            far=raw.far,
         )
         mesh.stats = {
             "nodes": int(len(x)),
@@ -267,6 +292,10 @@ class PendingMesh:
             "gmsh_retried": retried,
             "symmetric": half is not None,
             "divider_angle": None if half is None else math.degrees(half.angle),
+            "patch": self._job[5] is not None,
+            "far_reused": bool(raw.far_reused),  # the far field's cells from the last call's (_FarCache)
+            # the divider inside the patch circle (symmetric meshes with a patch; its own, see point_symmetry.Inner)
+            "inner_divider_angle": None if half is None or half.inner is None else math.degrees(half.inner.angle),
             "seconds_split": t_split,
             # planning + gmsh + the rest here
             "seconds": self._seconds + t_gmsh + (time.perf_counter() - t_after),
@@ -495,13 +524,23 @@ def _junctions(polylines, free_ends, tol):
 # -- 2. gmsh -----------------------------------------------------------------------
 
 
-def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm) -> RawMesh:
+def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm,
+                  circle=None) -> RawMesh:
     import gmsh
 
     with _scratch() as scratch:
         gmsh.initialize(readConfigFiles=False)
         try:
             gmsh.option.setNumber("General.Terminal", 0)
+            if circle is not None:
+                args = (domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes, scratch, circle)
+                try:
+                    return _mesh_patched(*args)
+                except _CacheMiss:  # a fresh session, the far field meshed too
+                    gmsh.finalize()
+                    gmsh.initialize(readConfigFiles=False)
+                    gmsh.option.setNumber("General.Terminal", 0)
+                    return _mesh_patched(*args, reuse=False)
             return _mesh_with_gmsh(domain, plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes,
                                    scratch)
         except Exception as error:  # gmsh raises bare Exception
@@ -672,6 +711,450 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
     return _extract(boundary_curves, crack_curves, tip_point, points, divider)
 
 
+
+# -- the patch: a circle whose outside meshes alike whatever lies inside ----------
+
+
+@dataclass(frozen=True)
+class _Circle:
+    """The patch circle in gmsh's frame and its fixed 1D mesh: N nodes (N even,
+    at most `spacing` apart, counter-clockwise from angle pi/N) joined by N arcs of
+    one edge each, mid node k at the middle of the arc from node k to k + 1.
+    Fixed nodes, not gmsh's meshing of the circle, because a symmetric
+    geometry's dividers end on them: where they end then changes nothing on
+    the circle. With `k_out` (the outer divider's node, symmetric meshes)
+    the nodes and mid nodes from k_out on for half a turn are placed by
+    cos/sin and the others are their images 2c - x, as glue computes the
+    image of a node: whichever half of the circle gmsh meshes (that depends
+    on the inner divider), the coordinates are the same bits."""
+
+    center: np.ndarray
+    radius: float
+    spacing: float
+    points: np.ndarray  # (N, 2)
+    mids: np.ndarray  # (N, 2)
+
+    @classmethod
+    def of(cls, center, radius: float, spacing: float, k_out: int | None = None) -> _Circle:
+        c = np.asarray(center, dtype=np.float64)
+        n = max(8, 2 * math.ceil(math.pi * radius / spacing))
+        angle = 2.0 * math.pi * (np.arange(n) + 0.5) / n
+        pts = c + radius * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+        mids = c + radius * np.stack([np.cos(angle + math.pi / n), np.sin(angle + math.pi / n)], axis=1)
+        if k_out is not None:
+            own = (k_out + np.arange(n // 2)) % n
+            pts[(own + n // 2) % n] = point_symmetry.rotate(pts[own], c)
+            mids[(own + n // 2) % n] = point_symmetry.rotate(mids[own], c)
+        return cls(c, float(radius), float(spacing), pts, mids)
+
+
+class _CacheMiss(RuntimeError):
+    """A cached far field that does not fit the mesh made around it."""
+
+
+class _FarCache:
+    """The far field this process meshed last (in the meshing worker: across
+    calls), so that a call whose far field is the same does not mesh it
+    again: its surfaces are hidden from gmsh (Mesh.MeshOnlyVisible; their
+    boundary curves are still meshed, alike), and its cells are taken from
+    here, glued by their nodes on those curves, which carry the same bits
+    (tests/test_meshing_patch.py: the mesh is then bitwise the one that
+    meshing it gives). Only the last far field is kept: a propagation
+    loop's far field changes seldom and is large."""
+
+    _last: tuple | None = None
+
+    @staticmethod
+    def key(domain, plan, inside, circle, half, size, tip_size, sectors, sizes, mirror_sizes, algorithm) -> bytes:
+        """A digest of everything the far field's mesh depends on: the domain,
+        the anchors, the fractures and tips outside the circle (by their
+        place among those outside), the circle, the outer divider, the
+        sizes and the size field, the algorithm."""
+        import hashlib
+        import pickle
+
+        group = [f for f, i in enumerate(inside) if not i]
+        where = {f: k for k, f in enumerate(group)}
+
+        def b(a) -> bytes:
+            return np.ascontiguousarray(a, dtype=np.float64).tobytes()
+
+        parts = (
+            domain.shape, b(domain.center) if domain.shape == "disc" else b(domain.vertices()),
+            float(domain.radius) if domain.shape == "disc" else 0.0,
+            [(e, float(t), b(p)) for e, t, p in plan.anchors],
+            [b(plan.fractures[f]) for f in group],
+            sorted((where[f], end, a) for (f, end), a in plan.mouth_anchor.items() if f in where),
+            sorted((where[f], end, where.get(g, -1), v) for (f, end), (g, v) in plan.junction.items() if f in where),
+            [(where[t.fracture], t.end, b(t.x), b(t.back), float(t.h)) for t in plan.tips if t.fracture in where],
+            b(circle.center), float(circle.radius), b(circle.points), b(circle.mids),
+            None if half is None else (b(half.center), b(half.u), b(half.points), half.k_out),
+            float(size), float(tip_size), int(sectors), bool(mirror_sizes), int(algorithm),
+            None if sizes is None else (b(sizes[0]), b(sizes[1])),
+        )
+        return hashlib.sha256(pickle.dumps(parts)).digest()
+
+    @classmethod
+    def get(cls, key):
+        return cls._last[1] if cls._last is not None and cls._last[0] == key else None
+
+    @classmethod
+    def put(cls, key, cells, interior) -> None:
+        cls._last = (key, (np.array(cells, dtype=np.float64), np.array(interior, dtype=bool)))
+
+    @classmethod
+    def clear(cls) -> None:
+        cls._last = None
+
+    @staticmethod
+    def merge(cached, far_surfaces, tri, far, tags, xyz):
+        """gmsh's cells (tri (m, 6) node tags; none of them far) with the cached
+        far cells in front: a cached node on the far field's boundary is
+        gmsh's node of the same coordinates (same bits), a cached interior
+        node a new tag. Raises _CacheMiss when a boundary node has no match."""
+        import gmsh
+
+        cells, interior = cached
+        if far.any():
+            raise _CacheMiss("the far surfaces were meshed")
+        on = set()
+        for _, tag in gmsh.model.getBoundary([(2, s) for s in far_surfaces], combined=False, oriented=False):
+            on.add(abs(tag))
+        for s in far_surfaces:  # the fractures outside, embedded in the far surface
+            on.update(abs(t) for dim, t in gmsh.model.mesh.getEmbedded(2, s) if dim == 1)
+        on_tags = np.unique(np.concatenate([np.zeros(0, np.int64)] + [
+            np.asarray(gmsh.model.mesh.getNodes(1, curve, includeBoundary=True, returnParametricCoord=False)[0],
+                       dtype=np.int64) for curve in sorted(on)]))
+        by_tag = np.argsort(tags)
+        known, first = np.unique(_bits(xyz[by_tag[np.searchsorted(tags[by_tag], on_tags)]]), return_index=True)
+        known_tag = on_tags[first]
+        flat, inner = cells.reshape(-1, 2), interior.ravel()
+        out = np.empty(len(flat), dtype=np.int64)
+        want = _bits(flat[~inner])
+        j = np.minimum(np.searchsorted(known, want), max(len(known) - 1, 0))
+        if len(want) and (not len(known) or np.any(known[j] != want)):
+            raise _CacheMiss("a node of the far field's boundary is not in the mesh")
+        out[~inner] = known_tag[j]
+        top = int(tags.max()) + 1 if len(tags) else 1
+        _, first, fresh = np.unique(_bits(flat[inner]), return_index=True, return_inverse=True)
+        out[inner] = top + fresh.ravel()
+        tri = np.concatenate([out.reshape(-1, 6), tri])
+        far = np.concatenate([np.ones(len(cells), dtype=bool), far])
+        tags = np.concatenate([tags, np.arange(top, top + len(first), dtype=np.int64)])
+        xyz = np.concatenate([xyz, flat[inner][first]])
+        return tri, far, tags, xyz
+
+
+def _bits(a) -> np.ndarray:
+    """(n, 2) float64 rows as (n,) keys that compare and sort by their bits."""
+    return np.ascontiguousarray(a, dtype=np.float64).view(np.dtype((np.void, 16))).ravel()
+
+
+def _patch_clearance(size: float, tip_size: float, tip_h: float | None = None, sectors: int = 16) -> float:
+    """The least distance between the patch circle and a fracture (tip_h None)
+    or a tip with rosette radius tip_h. The size field (_size_field) is a min
+    of thresholds that reach `size` at DistMax from their fracture or tip:
+    (size - h_crack) / GRADING from a fracture (h_crack >= tip_size, so
+    (size - tip_size) / GRADING bounds it), h + (size - h_ring) / TIP_GRADING
+    from a tip (h_ring the rosette's chord, below tip_size: a tip reaches
+    farther than its fracture). Beyond it every threshold is `size` exactly
+    (gmsh's Threshold returns SizeMax there, and its sampled distance never
+    undercuts the true one), so on the circle and outside it the field does
+    not depend on what is inside. The 2 size more keep the graded cells
+    inside off the circle: the cells that touch it inside are of its own
+    spacing, and the inside's meshing starts from a boundary that is not
+    crowded by the refinement (tests/test_meshing_patch.py measures the far
+    field's identity with it)."""
+    if tip_h is None:
+        return 2.0 * size + (size - tip_size) / GRADING
+    return 2.0 * size + tip_h + (size - 2.0 * tip_h * math.sin(math.pi / sectors)) / TIP_GRADING
+
+
+#: the smallest rosette radius of a tip, in tip sizes (a wing's: min(tip_size,
+#: 0.75 L) with L >= 0.4 tip_size, wingcrack.case's Propagation.length)
+SMALLEST_ROSETTE = 0.3
+
+
+def patch_clearance(size: float, tip_size: float, sectors: int) -> float:
+    """The room a caller leaves between a patch circle and any fracture or
+    tip for the mesher to use the patch: _patch_clearance's largest over
+    fractures and over tips of any rosette radius from SMALLEST_ROSETTE
+    tip sizes to tip_size (the tip's bound is linear in the radius, so the
+    ends bound it)."""
+    return max(_patch_clearance(size, tip_size),
+               *(_patch_clearance(size, tip_size, h, sectors) for h in (SMALLEST_ROSETTE * tip_size, tip_size)))
+
+
+def patch_boundary_clearance(size: float) -> float:
+    """The room between a patch circle and the outer boundary (and every bc
+    point) that the mesher asks."""
+    return 2.0 * size
+
+
+def _patch_circle(domain, plan: _Plan, frame, patch, size, tip_size, sectors, sizes=None) -> _Circle | None:
+    """The patch (center, radius; the caller's frame) in gmsh's frame, or None
+    when it does not fit: the circle within the domain and 2 size off its
+    boundary and off every anchor (bc points, crack mouths), every fracture
+    wholly inside or wholly outside it and _patch_clearance away from it,
+    every tip likewise. Never an error: a patch that does not fit only
+    costs the caller the reuse. Its nodes are `size` apart, or as far apart
+    as the smallest of the size field `sizes` (gmsh's frame) on the
+    triangles that meet the circle asks, and then the size field grades the
+    cells from that spacing on the circle (_size_field): where the field
+    varies along the circle, one spacing fits it nowhere but at its finest
+    (cells on the circle came out 0.6-0.7 in shape, against 0.9 in a
+    uniform field)."""
+    try:
+        c = frame.to(np.asarray(patch[0], dtype=np.float64).reshape(2))
+        r = float(patch[1]) / frame.scale
+    except (TypeError, ValueError, IndexError):
+        return None
+    if not (np.all(np.isfinite(c)) and math.isfinite(r) and r > 0.0):
+        return None
+    if not domain.contains(c) or domain.distance_to_boundary(c) < r + patch_boundary_clearance(size):
+        return None
+    if any(np.linalg.norm(a - c) < r + patch_boundary_clearance(size) for _, _, a in plan.anchors):
+        return None
+    clear = _patch_clearance(size, tip_size)
+    for pts in plan.fractures:
+        if np.linalg.norm(pts - c, axis=1).max() <= r - clear:
+            continue  # inside
+        a, ab = pts[:-1], np.diff(pts, axis=0)
+        t = np.clip(np.einsum("ij,ij->i", c - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+        if np.linalg.norm(a + t[:, None] * ab - c, axis=1).min() >= r + clear:
+            continue  # outside
+        return None
+    for t in plan.tips:
+        if abs(np.linalg.norm(t.x - c) - r) < _patch_clearance(size, tip_size, t.h, sectors):
+            return None
+    spacing = size
+    if sizes is not None and len(sizes[0]):
+        tri = np.asarray(sizes[0], dtype=np.float64)
+        vals = np.asarray(sizes[1], dtype=np.float64).reshape(len(tri), 3)
+        d = np.linalg.norm(tri - c, axis=2)
+        edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+        meets = (d.min(axis=1) - edge <= r) & (d.max(axis=1) >= r)  # the nearest point is within an edge of a vertex
+        if meets.any():
+            spacing = min(size, max(tip_size, float(vals[meets].min())))
+    return _Circle.of(c, r, spacing)
+
+
+def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm, half, mirror_sizes, scratch,
+                  circle: _Circle, reuse: bool = True) -> RawMesh:
+    """_mesh_with_gmsh with a patch circle: the far field (outside the circle:
+    the outer boundary, the fractures and tips there, the divider outside)
+    is built first, so that its entities have the lowest tags and its
+    surface is meshed first (gmsh meshes surfaces in tag order; meshed
+    after the inside, the far surface of one of the identity tests came
+    out otherwise, the inside's meshing changing the state gmsh starts
+    the next surface from; meshed first, none did); then the inside. With `half`: the far half on the left of the outer divider, the
+    patch half on the left of the inner one (point_symmetry.Inner).
+    When the far field is the one this process meshed last (_FarCache), its
+    surfaces are not meshed (reuse False: meshed in any case)."""
+    import gmsh
+
+    geo = gmsh.model.geo
+    gmsh.model.add("wingcrack")
+    meshed = (lambda x: True) if half is None else half.left
+    c, r, n = circle.center, circle.radius, len(circle.points)
+    inside = [bool(np.linalg.norm(p[0] - c) < r) for p in plan.fractures]
+    key = _FarCache.key(domain, plan, inside, circle, half, size, tip_size, sectors, sizes, mirror_sizes, algorithm)
+    cached = _FarCache.get(key) if reuse else None
+
+    anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
+    ring = _boundary_ring(domain, plan, geo, anchor_tag)
+    center = geo.addPoint(*domain.center, 0.0) if domain.shape == "disc" else None
+    if half is None:
+        pieces = list(zip(ring, ring[1:] + ring[:1]))
+    else:
+        tags = [tag for tag, _ in ring]
+        start = tags.index(_anchor_at(plan, anchor_tag, half.points[-1]))
+        stop = tags.index(_anchor_at(plan, anchor_tag, half.points[0]))
+        arc = ring[start:] + ring[:start]
+        arc = arc[: (stop - start) % len(ring) + 1]
+        pieces = list(zip(arc[:-1], arc[1:]))
+    boundary_curves: list[tuple[int, str]] = []
+    for (a, name), (b, _) in pieces:
+        curve = geo.addCircleArc(a, center, b) if center is not None else geo.addLine(a, b)
+        boundary_curves.append((curve, name))
+    hub = geo.addPoint(c[0], c[1], 0.0)
+    node = [geo.addPoint(p[0], p[1], 0.0) for p in circle.points]
+    arcs = [geo.addCircleArc(node[j], hub, node[(j + 1) % n]) for j in range(n)]
+    for a in arcs:
+        geo.mesh.setTransfiniteCurve(a, 2)
+
+    tip_of = {(t.fracture, t.end): k for k, t in enumerate(plan.tips)}
+    tip_point: list = [None] * len(plan.tips)
+    spoke: list = [None] * len(plan.tips)
+    curves_of: dict[int, list] = {}  # fracture -> its crack curves, in order
+    vertex_tags: dict[int, list[int]] = {}
+    sides = []
+    for far_side in (True, False):
+        group = [f for f in range(len(plan.fractures)) if inside[f] != far_side]
+        tips = [k for k, t in enumerate(plan.tips) if bool(np.linalg.norm(t.x - c) >= r) == far_side]
+        sectors_of, holes = [], []
+        for k in tips:
+            sector_loops, hole = _rosette_curves(geo, plan.tips[k], sectors, meshed, tip_point, spoke, k)
+            sectors_of += sector_loops
+            if hole is not None:
+                holes.append(hole)
+        embedded, elsewhere = _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed,
+                                               vertex_tags, curves_of)
+        if far_side:
+            divider, loop = [], [cv for cv, _ in boundary_curves]
+            if half is not None:  # R(p) .. R(q) | q .. p: the part between R(q) and q is inside
+                k_out, m = half.k_out, len(half.points) // 2
+                ends = {m - 1: node[(k_out + n // 2) % n], m: node[k_out]}
+                tags = [ends.get(i) or _vertex_at(plan, anchor_tag, vertex_tags, geo, q)
+                        for i, q in enumerate(half.points)]
+                divider = [geo.addLine(a, b) for a, b in zip(tags[:m - 1], tags[1:m])]
+                divider += [geo.addLine(a, b) for a, b in zip(tags[m:-1], tags[m + 1:])]
+                around = [-arcs[(k_out + n // 2 - 1 - j) % n] for j in range(n // 2)]
+                loop = loop + divider[: m - 1] + around + divider[m - 1:]
+                bounds = [geo.addCurveLoop(loop)] + holes
+            else:
+                bounds = [geo.addCurveLoop(loop), geo.addCurveLoop(arcs)] + holes
+        else:
+            if half is not None:
+                k_in = half.inner.k
+                pts = half.inner.points
+                ends = {0: node[(k_in + n // 2) % n], len(pts) - 1: node[k_in]}
+                tags = [ends.get(i) or _vertex_at(plan, anchor_tag, vertex_tags, geo, q) for i, q in enumerate(pts)]
+                divider = [geo.addLine(a, b) for a, b in zip(tags[:-1], tags[1:])]
+                loop = [arcs[(k_in + j) % n] for j in range(n // 2)] + divider
+            else:
+                divider, loop = [], list(arcs)
+            bounds = [geo.addCurveLoop(loop)] + holes
+        surface = geo.addPlaneSurface(bounds)
+        rosettes = [(geo.addPlaneSurface([lp]), corners) for lp, corners in sectors_of]
+        sides.append((surface, rosettes, divider, embedded, elsewhere, group))
+    for _, rosettes, _, _, _, _ in sides:
+        for s, corners in rosettes:
+            geo.mesh.setTransfiniteSurface(s, "Left", list(corners))
+    geo.synchronize()
+    if half is not None:  # each divider's second half mirrors its first, node for node
+        cx, cy = half.center
+        turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+        for _, _, divider, _, _, _ in sides:
+            for k in range(len(divider) // 2):
+                gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
+    for surface, _, _, embedded, _, _ in sides:
+        if embedded:
+            gmsh.model.mesh.embed(1, embedded, 2, surface)
+
+    groups = [(embedded + elsewhere, [plan.fractures[f] for f in group])
+              for _, _, _, embedded, elsewhere, group in sides]
+    _size_field(plan, [centre for centre, _ in tip_point], [], size, tip_size, sectors,
+                sizes, half.center if mirror_sizes else None, _box(domain), scratch, crack_groups=groups,
+                circle=(arcs, circle.spacing))
+    gmsh.option.setNumber("Mesh.Algorithm", algorithm)
+    far_surfaces = [sides[0][0]] + [s for s, _ in sides[0][1]]
+    if cached is not None:  # the far surfaces' boundaries are meshed (visible), the surfaces not
+        gmsh.model.setVisibility([(2, s) for s in far_surfaces], 0, recursive=False)
+        gmsh.option.setNumber("Mesh.MeshOnlyVisible", 1)
+    gmsh.model.mesh.generate(2)
+    gmsh.model.mesh.setOrder(2)
+
+    points = [anchor_tag[a] for a in plan.point_anchor]
+    used_arcs = list(range(n))
+    mirrored_arcs: list[int] = []
+    if half is not None:
+        points = [tag if half.left(plan.anchors[a][2]) else
+                  _anchor_at(plan, anchor_tag, point_symmetry.rotate(plan.anchors[a][2], half.center))
+                  for tag, a in zip(points, plan.point_anchor)]
+        far_arcs = {(half.k_out + j) % n for j in range(n // 2)}
+        patch_arcs = {(half.inner.k + j) % n for j in range(n // 2)}
+        used_arcs = sorted(far_arcs | patch_arcs)
+        # an arc in one half's boundary only: its image is the other's (glue mirrors their nodes)
+        mirrored_arcs = [arcs[j] for j in sorted(far_arcs ^ patch_arcs)]
+    crack_curves = [cv for f in range(len(plan.fractures)) for cv in curves_of[f]]
+    (_, _, far_divider, _, _, _), (_, _, inner_divider, _, _, _) = sides
+    info: dict = {}
+    raw = _extract(boundary_curves, crack_curves, tip_point, points, far_divider + inner_divider + mirrored_arcs,
+                   far_surfaces=far_surfaces, mids={arcs[j]: circle.mids[j] for j in used_arcs},
+                   far_cells=cached, info=None if cached is not None else info)
+    if cached is None:
+        _FarCache.put(key, raw.x[raw.cells[raw.far]], info["far_interior"])
+    return raw
+
+
+def _rosette_curves(geo, t, sectors, meshed, tip_point, spoke, k):
+    """The points and curves of tip t's rosette (as _mesh_with_gmsh builds
+    them) and its sectors' loops [(loop, corners)], the surfaces left to the
+    caller; fills tip_point[k], spoke[k]. Returns (loops, hole loop), the
+    hole None (and no loops) for a tip not meshed here."""
+    centre = geo.addPoint(t.x[0], t.x[1], 0.0)
+    if not meshed(t.x):
+        tip_point[k] = (centre, None)
+        return [], None
+    phi0 = math.atan2(t.back[1], t.back[0])
+    ring_pts = []
+    for j in range(sectors):
+        phi = phi0 + 2.0 * math.pi * j / sectors
+        p = t.x + t.h * (t.back if j == 0 else np.array([math.cos(phi), math.sin(phi)]))
+        ring_pts.append(geo.addPoint(p[0], p[1], 0.0))
+    spokes = [geo.addLine(centre, q) for q in ring_pts]
+    chords = [geo.addLine(ring_pts[j], ring_pts[(j + 1) % sectors]) for j in range(sectors)]
+    loops = [(geo.addCurveLoop([spokes[j], chords[j], -spokes[(j + 1) % sectors]]),
+              (centre, ring_pts[j], ring_pts[(j + 1) % sectors])) for j in range(sectors)]
+    for cv in spokes + chords:
+        geo.mesh.setTransfiniteCurve(cv, 2)
+    tip_point[k] = (centre, ring_pts[0])
+    spoke[k] = spokes[0]
+    return loops, geo.addCurveLoop(chords)
+
+
+def _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed, vertex_tags, curves_of):
+    """The crack curves of the fractures in `group` (as _mesh_with_gmsh builds
+    them): fills vertex_tags[f] and curves_of[f] ([(curve, f, d)] in order
+    along f, the rosettes' spokes on the crack included); returns (curves to
+    embed, the other half's curves)."""
+    for f in group:
+        pts = plan.fractures[f]
+        tags = [0] * len(pts)
+        for end, i in ((0, 0), (1, len(pts) - 1)):
+            if (f, end) in plan.mouth_anchor:
+                tags[i] = anchor_tag[plan.mouth_anchor[(f, end)]]
+            elif (f, end) in tip_of and spoke[tip_of[(f, end)]] is not None:
+                tags[i] = tip_point[tip_of[(f, end)]][1]
+        joined = {0 if end == 0 else len(pts) - 1 for (g, end) in plan.junction if g == f}
+        for i in range(len(pts)):
+            if not tags[i] and i not in joined:
+                tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
+        vertex_tags[f] = tags
+    for (f, end), (g, vertex) in plan.junction.items():
+        if f in group:  # a junction joins fractures of one side (they touch)
+            vertex_tags[f][0 if end == 0 else -1] = vertex_tags[g][vertex]
+    embedded, elsewhere = [], []
+    for f in group:
+        pts, tags, own = plan.fractures[f], vertex_tags[f], []
+        if (f, 0) in tip_of and spoke[tip_of[(f, 0)]] is not None:
+            own.append((spoke[tip_of[(f, 0)]], f, pts[1] - pts[0]))
+        for s in range(len(pts) - 1):
+            line = geo.addLine(tags[s], tags[s + 1])
+            if meshed(0.5 * (pts[s] + pts[s + 1])):
+                own.append((line, f, pts[s + 1] - pts[s]))
+                embedded.append(line)
+            else:
+                elsewhere.append(line)
+        if (f, 1) in tip_of and spoke[tip_of[(f, 1)]] is not None:
+            own.append((spoke[tip_of[(f, 1)]], f, pts[-1] - pts[-2]))
+        curves_of[f] = own
+    return embedded, elsewhere
+
+
+def _vertex_at(plan, anchor_tag, vertex_tags, geo, q) -> int:
+    """_divider_point with the fractures built so far (vertex_tags: f -> tags)."""
+    for k, (_, _, a) in enumerate(plan.anchors):
+        if np.array_equal(a, q):
+            return anchor_tag[k]
+    for f, tags in vertex_tags.items():
+        hit = np.flatnonzero(np.all(plan.fractures[f] == q, axis=1))
+        if len(hit):
+            return tags[int(hit[0])]
+    return geo.addPoint(q[0], q[1], 0.0)
+
+
 def _boundary_ring(domain, plan, geo, anchor_tag) -> list[tuple[int, str]]:
     """The outer boundary's points counter-clockwise, each with the name of the
     boundary curve that starts at it (a disc's arcs are filled to <= pi/2)."""
@@ -767,12 +1250,16 @@ def _rim_point(angle, domain, geo) -> int:
 
 
 def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, sizes=None, center=None,
-                box=None, scratch=None):
+                box=None, scratch=None, crack_groups=None, circle=None):
     """h = min(size, h_ring + GRADING (r - h_tip), h_crack + GRADING dist, sizes): the rosette
     chord length at each ring, the crack size on the fracture, growing linearly; and the
     given size field (linear on its triangles), never below tip_size, sampled on a grid
     over `box` (lo (2,), hi (2,)) written into the directory `scratch`. With a `center`
-    the size field is made point-symmetric: sizes also bounds at the images 2 center - x."""
+    the size field is made point-symmetric: sizes also bounds at the images 2 center - x.
+    crack_groups: [(curves, their polylines)] each measured by a distance field of its
+    own (crack_curves then unused), so that one group's sampling does not depend on the
+    others' (the patch's far field and its inside); circle: (curves, spacing) the patch
+    circle, h <= spacing + GRADING dist: cells graded from its fixed nodes."""
     import gmsh
 
     field = gmsh.model.mesh.field
@@ -786,13 +1273,22 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
         d = field.add("Distance")
         field.setNumbers(d, "PointsList", [centre])
         parts.append(_threshold(d, h_ring, size, t.h, TIP_GRADING))
-    if crack_curves:
+    if crack_groups is None:
+        crack_groups = [(crack_curves, plan.fractures)]
+    for curves, polylines in crack_groups:
+        if not curves:
+            continue
         h_crack = min(size, CRACK_SIZE_IN_TIPS * tip_size)
-        longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in plan.fractures)
+        longest = max(np.max(np.linalg.norm(np.diff(p, axis=0), axis=1)) for p in polylines)
         d = field.add("Distance")
-        field.setNumbers(d, "CurvesList", crack_curves)
+        field.setNumbers(d, "CurvesList", curves)
         field.setNumber(d, "NumPointsPerCurve", int(min(20000, math.ceil(4.0 * longest / h_crack) + 2)))
         parts.append(_threshold(d, h_crack, size, 0.0))
+    if circle is not None and circle[1] < size:
+        d = field.add("Distance")
+        field.setNumbers(d, "CurvesList", circle[0])
+        field.setNumber(d, "NumPointsPerCurve", 4)  # the arcs are one spacing long
+        parts.append(_threshold(d, circle[1], size, 0.0))
     if sizes is not None:
         tri, vals = (np.asarray(a, dtype=np.float64) for a in sizes)
         vals = np.maximum(vals.reshape(len(tri), 3), tip_size)
@@ -911,28 +1407,72 @@ def _threshold(distance_field, h0, size, d0, grading=GRADING):
 # -- 3. read the mesh back ---------------------------------------------------------
 
 
-def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -> RawMesh:
+def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), far_surfaces=None,
+             mids=None, far_cells=None, info=None) -> RawMesh:
     """The mesh gmsh made. tip_point: (centre, corner) point tags of each tip,
     corner None for a tip not meshed here (its nodes are -1); point_tags: of
     each bc point, None likewise; divider: curves whose nodes are returned as
-    divider_nodes."""
+    divider_nodes; far_surfaces: the surfaces whose cells are RawMesh.far
+    (None: far None; else the far cells come first and the nodes are
+    numbered in the order the cells meet them, not in gmsh's tag order);
+    mids: {curve: (2,)} the mid node of one-edge curves placed there;
+    far_cells: a far field meshed before (_FarCache), its surfaces not
+    meshed now; info: a dict, given "far_interior" (as _FarCache keeps it)."""
     import gmsh
 
     mesh = gmsh.model.mesh
-    _, tri = mesh.getElementsByType(9)  # 6-node triangles
+    element_tags, tri = mesh.getElementsByType(9)  # 6-node triangles
     tri = np.asarray(tri, dtype=np.int64).reshape(-1, 6)
-    used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
-    cells = cells.reshape(-1, 6).astype(np.int64)
-    tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
-    order = np.argsort(tags)
-    x = np.asarray(coords).reshape(-1, 3)[order][np.searchsorted(np.asarray(tags)[order], used), :2].copy()
+    if far_surfaces is None:
+        used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
+        cells = cells.reshape(-1, 6).astype(np.int64)
+        tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
+        order = np.argsort(tags)
+        x = np.asarray(coords).reshape(-1, 3)[order][np.searchsorted(np.asarray(tags)[order], used), :2].copy()
 
-    def index(node_tags) -> np.ndarray:
-        return np.searchsorted(used, np.asarray(node_tags, dtype=np.int64))
+        def index(node_tags) -> np.ndarray:
+            return np.searchsorted(used, np.asarray(node_tags, dtype=np.int64))
+        far = None
+    else:
+        tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
+        tags = np.asarray(tags, dtype=np.int64)
+        xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[:, :2]
+        far_tags = np.concatenate([np.asarray(mesh.getElementsByType(9, s)[0], dtype=np.int64)
+                                   for s in far_surfaces])
+        far = np.isin(np.asarray(element_tags, dtype=np.int64), far_tags)
+        if mids:
+            mid_tags = np.array([mesh.getElements(1, curve)[2][0][2] for curve in mids], dtype=np.int64)
+            by_tag = np.argsort(tags)
+            xyz[by_tag[np.searchsorted(tags[by_tag], mid_tags)]] = np.array(list(mids.values()), dtype=np.float64)
+        mids = None
+        if far_cells is not None:
+            tri, far, tags, xyz = _FarCache.merge(far_cells, far_surfaces, tri, far, tags, xyz)
+        by_tag = np.argsort(tags)
+        tri = _canonical_cells(tri, xyz[by_tag][np.searchsorted(tags[by_tag], tri[:, :3])])
+        # far cells first (stable), nodes numbered as the cells meet them: the far field's
+        # numbering is then the same in every call that meshes it alike, whatever gmsh's tags
+        order = np.argsort(~far, kind="stable")
+        tri, far = tri[order], far[order]
+        flat = tri.ravel()
+        uniq, first = np.unique(flat, return_index=True)
+        rank = np.empty(len(uniq), dtype=np.int64)
+        rank[np.argsort(first)] = np.arange(len(uniq))
+        x = xyz[by_tag][np.searchsorted(tags[by_tag], flat[np.sort(first)])].copy()
+
+        def index(node_tags) -> np.ndarray:
+            return rank[np.searchsorted(uniq, np.asarray(node_tags, dtype=np.int64))]
+        cells = index(tri)
+        if info is not None:
+            interior = np.concatenate([np.asarray(mesh.getNodes(2, s, includeBoundary=False)[0], dtype=np.int64)
+                                       for s in far_surfaces])
+            info["far_interior"] = np.isin(tri[far], interior)
 
     def curve_edges(curve) -> np.ndarray:
         _, _, nodes = mesh.getElements(1, abs(curve))
         return index(nodes[0]).reshape(-1, 3)
+
+    for curve, at in (mids or {}).items():
+        x[curve_edges(curve)[0, 2]] = at
 
     # Counter-clockwise cells: swap v1 <-> v2 and m01 <-> m20 where the area is negative.
     v = x[cells[:, :3]]
@@ -972,7 +1512,27 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=()) -
         tip_corner=np.array([point_node(r0) for _, r0 in tip_point], dtype=np.int64),
         point_nodes=np.array([point_node(tag) for tag in point_tags], dtype=np.int64),
         divider_nodes=np.unique(np.concatenate(on_divider)) if on_divider else np.zeros(0, np.int64),
+        far=far,
+        far_reused=far_cells is not None,
     )
+
+
+def _canonical_cells(tri, v) -> np.ndarray:
+    """P2 cells (m, 6) counter-clockwise and each starting at its lowest
+    vertex (by x, then y; v (m, 3, 2) the vertices): which vertex gmsh puts
+    first follows its node tags, which differ between a mesh made whole and
+    one made with the far field reused (_FarCache)."""
+    area2 = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    flip = area2 < 0
+    tri, v = tri.copy(), v.copy()
+    tri[flip] = tri[flip][:, [0, 2, 1, 5, 4, 3]]
+    v[flip] = v[flip][:, [0, 2, 1]]
+    k = np.zeros(len(tri), dtype=np.int64)
+    for j in (1, 2):
+        a, b = v[np.arange(len(v)), k], v[:, j]
+        k = np.where((b[:, 0] < a[:, 0]) | ((b[:, 0] == a[:, 0]) & (b[:, 1] < a[:, 1])), j, k)
+    turn = np.array([[0, 1, 2, 3, 4, 5], [1, 2, 0, 4, 5, 3], [2, 0, 1, 5, 3, 4]])
+    return np.take_along_axis(tri, turn[k], axis=1)
 
 
 # -- 4. tips after the split -----------------------------------------------------

@@ -14,6 +14,11 @@ half is the exact image R of the first. The glued mesh maps onto itself node
 for node, so the discrete solution, the SIFs, the kinks and the next
 geometry are point-symmetric to round-off.
 
+With a patch circle about the centre (crack_mesh's `patch`) the divider
+has two parts, one outside the circle chosen from what lies outside only
+and one inside (Inner), both ending on nodes of the circle: the far field's
+half stays the same whatever the fractures inside do to the divider there.
+
 Pure numpy: the geometry tests (is it symmetric, where may the divider go),
 the insertion of the divider's crossings into the fractures, and the gluing
 of the meshed half to its image.
@@ -46,20 +51,52 @@ def rotate(x, c) -> np.ndarray:
 
 
 @dataclass
+class Inner:
+    """The divider inside a patch circle (crack_mesh's `patch`): a diameter of
+    its own, so that the divider outside (Half.u, chosen from what lies
+    outside the circle only) stays the same whatever the fractures inside."""
+
+    radius: float
+    u: np.ndarray  # direction; inside the circle gmsh meshes the half on its left
+    k: int  # the circle node at c + radius u (crack_mesh._circle_points)
+    points: np.ndarray  # (2j+1, 2) vertices from R(c + radius u) to c + radius u: crossings, centre
+    angle: float
+
+
+@dataclass
 class Half:
     """The divider of a point-symmetric geometry and what R maps onto what."""
 
     center: np.ndarray
     u: np.ndarray  # divider direction; gmsh meshes the half on its left
-    points: np.ndarray  # (2k+1, 2) divider vertices from R(p) to p: ends, crossings, centre
+    # (2k+1, 2) divider vertices from R(p) to p: ends, crossings, centre. With
+    # a patch (inner): (2k+2, 2), no centre: R(p), crossings, R(q), q, crossings,
+    # p, where q = c + radius u is circle node k_out; the part between R(q)
+    # and q is no divider (inner's is).
+    points: np.ndarray
     fracture_image: list[tuple[int, bool]]  # f -> (g, reversed): R(fracture f) is fracture g
     angle: float  # of u, radians
+    inner: Inner | None = None
+    k_out: int = -1
 
     def left(self, x) -> np.ndarray | bool:
-        """True for points strictly on the meshed side."""
+        """True for points strictly on the meshed side (inside a patch circle:
+        on the left of the inner divider)."""
         d = np.asarray(x, dtype=np.float64) - self.center
         s = self.u[0] * d[..., 1] - self.u[1] * d[..., 0]
-        return s > 0.0
+        if self.inner is None:
+            return s > 0.0
+        u = self.inner.u
+        inside = np.hypot(d[..., 0], d[..., 1]) < self.inner.radius
+        out = np.where(inside, u[0] * d[..., 1] - u[1] * d[..., 0] > 0.0, s > 0.0)
+        return bool(out) if out.ndim == 0 else out
+
+    def crossings(self) -> list[np.ndarray]:
+        """The divider's inner vertices (where it may cross fractures)."""
+        out = list(self.points[1:-1])
+        if self.inner is not None:
+            out += list(self.inner.points[1:-1])
+        return out
 
 
 def domain_center(domain) -> np.ndarray | None:
@@ -182,6 +219,135 @@ def _divider(domain, polylines, tip_x, fixed, c, u, tip_size, tol):
     return points, score
 
 
+def find_half_patched(domain, polylines, tips, anchors, tip_size: float, radius: float, circle) -> Half | None:
+    """The divider of a point-symmetric geometry with a patch circle of
+    `radius` about the domain's centre (crack_mesh's `patch`): outside the
+    circle a divider chosen from what lies outside only (the outer fractures
+    and tips, the anchors), inside another (Half.inner) chosen from what
+    lies inside; both end on nodes of the circle (`circle`, (N, 2), N even,
+    counter-clockwise, node k + N/2 the image of node k), which splits there.
+    Every fracture lies wholly inside or wholly outside the circle (the
+    caller's rule). None when the geometry is not symmetric or either
+    divider finds no direction."""
+    c = domain_center(domain)
+    if c is None:
+        return None
+    scale = domain.length_scale()
+    tol = 1e-9 * scale
+    images = fracture_images(polylines, c, tol)
+    if images is None:
+        return None
+    tip_x = np.array([t[0] for t in tips], dtype=np.float64).reshape(-1, 2)
+    if len(tip_x) and np.max(np.min(np.linalg.norm(rotate(tip_x, c)[:, None] - tip_x[None], axis=2), axis=1)) > tol:
+        return None
+    inside = [np.linalg.norm(p[0] - c) < radius for p in polylines]
+    tip_in = np.linalg.norm(tip_x - c, axis=1) < radius
+    fixed = [np.asarray(a, dtype=np.float64) for a in anchors]
+    fixed += [rotate(a, c) for a in fixed] + list(domain.vertices())
+    n = len(circle)
+    picks = []
+    for outer in (True, False):
+        lines = [p for p, i in zip(polylines, inside) if i != outer]
+        best, best_score = None, 0.0
+        for k in range(n // 2):  # the nodes' directions cover [0, pi) once
+            q = np.asarray(circle[k], dtype=np.float64)
+            u = (q - c) / np.linalg.norm(q - c)
+            if outer:
+                found = _outer_piece(domain, lines, tip_x[~tip_in], fixed, c, u, q, tip_size, radius, tol)
+            else:
+                found = _inner_piece(lines, tip_x[tip_in], c, u, q, tip_size, radius, tol)
+            if found is not None and found[1] > best_score + 1e-12:
+                best, best_score = (k, u, found[0]), found[1]
+                if best_score >= 1.0:
+                    break
+        if best is None:
+            return None
+        picks.append(best)
+    (k_out, u_out, points), (k_in, u_in, inner_points) = picks
+    inner = Inner(radius=float(radius), u=u_in, k=k_in, points=inner_points,
+                  angle=float(math.atan2(u_in[1], u_in[0])))
+    return Half(center=c, u=u_out, points=points, fracture_image=images, angle=float(math.atan2(u_out[1], u_out[0])),
+                inner=inner, k_out=k_out)
+
+
+def _crossings_along(polylines, c, u, tip_size, tol):
+    """(distances t > tol along u of the crossings with the line c + t u, the
+    sines of all crossings), or None when a vertex (other than the centre)
+    is near the line or a crossing is too flat or too near a vertex: the
+    rules of _divider."""
+    normal = np.array([-u[1], u[0]])
+    crossings, sines = [], [1.0]
+    for pts in polylines:
+        side = (pts - c) @ normal
+        for i, s in enumerate(side):
+            if abs(s) < VERTEX_CLEARANCE * tip_size and np.linalg.norm(pts[i] - c) > tol:
+                return None
+        for i in range(len(pts) - 1):
+            a, b = pts[i], pts[i + 1]
+            if side[i] * side[i + 1] >= 0.0:
+                continue
+            t = side[i] / (side[i] - side[i + 1])
+            x = a + t * (b - a)
+            sine = abs((b - a) / np.linalg.norm(b - a) @ normal)
+            if sine < MIN_CROSSING_SINE:
+                return None
+            if min(np.linalg.norm(x - a), np.linalg.norm(x - b)) < VERTEX_CLEARANCE * tip_size:
+                return None
+            crossings.append(x)
+            sines.append(sine)
+    return sorted(set(float((x - c) @ u) for x in crossings if (x - c) @ u > tol)), sines
+
+
+def _score(sines, tip_x, c, u, tip_size) -> float:
+    normal = np.array([-u[1], u[0]])
+    clearance = np.min(np.abs((tip_x - c) @ normal)) if len(tip_x) else np.inf
+    return min(1.0, min(sines) / math.sin(math.radians(60.0)), clearance / (2.0 * TIP_CLEARANCE * tip_size))
+
+
+def _outer_piece(domain, polylines, tip_x, fixed, c, u, q, tip_size, radius, tol):
+    """(vertices R(p), crossings, R(q), q, crossings, p; score) of the divider
+    outside the circle along u (q: its circle node), or None."""
+    normal = np.array([-u[1], u[0]])
+    if len(tip_x) and np.min(np.abs((tip_x - c) @ normal)) < TIP_CLEARANCE * tip_size:
+        return None
+    p = _boundary_hit(domain, c, u)
+    for a in fixed:
+        if min(np.linalg.norm(a - p), np.linalg.norm(a - rotate(p, c))) < ANCHOR_CLEARANCE * tip_size:
+            return None
+    found = _crossings_along(polylines, c, u, tip_size, tol)
+    if found is None:
+        return None
+    ts, sines = found
+    gap = VERTEX_CLEARANCE * tip_size
+    if ts and (ts[0] - radius < gap or float((p - c) @ u) - ts[-1] < gap):
+        return None
+    if np.any(np.diff(ts) < gap):
+        return None
+    positive = [q] + [c + t * u for t in ts] + [p]
+    points = np.array([rotate(x, c) for x in positive[::-1]] + positive)
+    return points, _score(sines, tip_x, c, u, tip_size)
+
+
+def _inner_piece(polylines, tip_x, c, u, q, tip_size, radius, tol):
+    """(vertices R(q), crossings, centre, crossings, q; score) of the divider
+    inside the circle along u (q: its circle node), or None."""
+    normal = np.array([-u[1], u[0]])
+    if len(tip_x) and np.min(np.abs((tip_x - c) @ normal)) < TIP_CLEARANCE * tip_size:
+        return None
+    found = _crossings_along(polylines, c, u, tip_size, tol)
+    if found is None:
+        return None
+    ts, sines = found
+    gap = VERTEX_CLEARANCE * tip_size
+    if ts and (ts[0] < gap or radius - ts[-1] < gap):
+        return None
+    if np.any(np.diff(ts) < gap):
+        return None
+    positive = [c + t * u for t in ts] + [q]
+    points = np.array([rotate(x, c) for x in positive[::-1]] + [c] + positive)
+    return points, _score(sines, tip_x, c, u, tip_size)
+
+
 def _boundary_hit(domain, c, u) -> np.ndarray:
     """Where the ray c + t u (t > 0) leaves the (convex, centred) domain."""
     if domain.shape == "disc":
@@ -225,6 +391,13 @@ def sizes_for_half(tri, vals, half: Half, tol: float):
     rel = tri - half.center
     side = half.u[0] * rel[..., 1] - half.u[1] * rel[..., 0]
     keep = np.any(side >= -tol, axis=1)  # a triangle holding a point of the half has a vertex there
+    if half.inner is not None:
+        # and every triangle that may reach into the circle, whatever the inner divider (which changes
+        # with the fractures inside, while the far field's grid must not): a triangle holding a point
+        # within the radius has a vertex within the radius plus its longest edge
+        edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+        near = np.linalg.norm(rel, axis=2).min(axis=1) <= half.inner.radius + edge + tol
+        keep |= near
     return tri[keep], sym[keep]
 
 
@@ -241,7 +414,7 @@ def insert_divider(polylines, junction, half: Half, tol: float):
                 break
             a, b = pts[i], pts[i + 1]
             hits = []
-            for x in half.points[1:-1]:
+            for x in half.crossings():
                 ab = b - a
                 t = float(np.dot(x - a, ab) / np.dot(ab, ab))
                 if 0.0 < t < 1.0 and np.linalg.norm(a + t * ab - x) <= tol:
@@ -312,6 +485,8 @@ def glue(raw: RawMesh, half: Half, domain, tip_image: list[int], point_image: li
         tip_corner=np.array(through(raw.tip_corner.tolist(), tip_image), dtype=np.int64),
         point_nodes=np.array(through(raw.point_nodes, point_image), dtype=np.int64),
         divider_nodes=np.zeros(0, np.int64),
+        far=None if raw.far is None else np.concatenate([raw.far, raw.far]),
+        far_reused=raw.far_reused,
     )
 
 

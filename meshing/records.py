@@ -62,6 +62,11 @@ class RawMesh:
     #: (d,) int64, sorted: the nodes on the divider of a meshed half (what
     #: glue mirrors); empty for a whole mesh, and after glue.
     divider_nodes: np.ndarray = field(default_factory=_no_nodes)
+    #: (m,) bool: True for the cells of the far field (outside crack_mesh's
+    #: patch circle; after glue: then their images); None without a patch.
+    far: np.ndarray | None = None
+    #: True when the far field's cells were taken from the last call's (crack_mesh._FarCache).
+    far_reused: bool = False
 
 
 @dataclass(frozen=True, eq=False)

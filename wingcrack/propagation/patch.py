@@ -51,13 +51,13 @@ def clearance(case) -> float:
     with `boundary_clearance`, the outer boundary): meshing's own rule."""
     from meshing.crack_mesh import patch_clearance
 
-    return patch_clearance(case.mesh.size, case.mesh.tip_size)
+    return patch_clearance(case.mesh.size, case.mesh.tip_size, case.mesh.sectors)
 
 
 def boundary_clearance(case) -> float:
     from meshing.crack_mesh import patch_boundary_clearance
 
-    return patch_boundary_clearance(case.mesh.size, case.mesh.tip_size)
+    return patch_boundary_clearance(case.mesh.size)
 
 
 def wanted(case) -> bool:
