@@ -4,9 +4,10 @@ which read the file back and rewrote it with the field data.
 
 - At meshio's zlib level (6) the two give the same bytes (but for the
   comment that names the writer): the same XML, the same blocks.
-- At the level the runs use (vtu.LEVEL) the blocks differ but decompress
-  to the same data: meshio reads the same arrays back, exactly (NaN where
-  the reference has NaN: the stress at a quarter-point tip node), the same
+- With the deflate the runs use (vtu.FAST: ISA-L's, or zlib's level 1
+  without the isal package) the blocks differ but decompress to the same
+  data: meshio reads the same arrays back, exactly (NaN where the
+  reference has NaN: the stress at a quarter-point tip node), the same
   field data and the same XML elements and attributes; and a decoder
   written here from the VTK format's description (UInt32 header, one zlib
   stream per block) gets the arrays' bytes.
@@ -94,11 +95,12 @@ def test_same_bytes_as_meshio_and_add_field_data_at_meshios_level(tmp_path, make
     assert new.read_bytes() == same_comment(ref.read_bytes())
 
 
+@pytest.mark.parametrize("level", [None, 1], ids=["fast", "zlib-1"])
 @pytest.mark.parametrize("make", [field_file, face_file])
-def test_the_runs_level_reads_back_to_the_same_arrays_and_field_data(tmp_path, make):
+def test_the_runs_deflate_reads_back_to_the_same_arrays_and_field_data(tmp_path, make, level):
     args = make()
     ref = meshio.read(reference_write(tmp_path / "ref.vtu", *args))
-    path = vtu.write_vtu(tmp_path / "new.vtu", *args)
+    path = vtu.write_vtu(tmp_path / "new.vtu", *args, level=level)
     new = meshio.read(path)
     assert np.array_equal(new.points, ref.points)
     assert [c.type for c in new.cells] == [c.type for c in ref.cells]
@@ -139,7 +141,7 @@ def decode_vtk(text: str, dtype) -> np.ndarray:
 
 def test_blocks_decode_as_the_vtk_format_describes(tmp_path):
     points, cells, point_data, _, _ = field_file()
-    path = vtu.write_vtu(tmp_path / "new.vtu", points, cells, point_data, level=vtu.LEVEL)
+    path = vtu.write_vtu(tmp_path / "new.vtu", points, cells, point_data)
     root = ET.parse(path).getroot()
     assert root.get("compressor") == "vtkZLibDataCompressor" and root.get("header_type") is None   # UInt32
     arrays = {a.get("Name"): a for a in root.iter("DataArray")}
@@ -152,6 +154,22 @@ def test_blocks_decode_as_the_vtk_format_describes(tmp_path):
     # the offsets are the ends of the cells, the types VTK's quadratic triangle
     assert np.array_equal(decode_vtk(arrays["offsets"].text, np.int64), 6 * np.arange(1, len(cells[0][1]) + 1))
     assert set(decode_vtk(arrays["types"].text, np.int64)) == {22}
+
+
+def test_without_isal_the_fast_deflate_is_zlibs_fastest(tmp_path, monkeypatch):
+    import importlib
+    import sys
+
+    args = field_file()
+    monkeypatch.setitem(sys.modules, "isal.isal_zlib", None)   # its import fails
+    try:
+        importlib.reload(vtu)
+        assert vtu.FAST == ("zlib", 1)
+        fallback = vtu.write_vtu(tmp_path / "fallback.vtu", *args)
+    finally:
+        monkeypatch.undo()
+        importlib.reload(vtu)
+    assert fallback.read_bytes() == vtu.write_vtu(tmp_path / "zlib1.vtu", *args, level=1).read_bytes()
 
 
 class Interrupting:
