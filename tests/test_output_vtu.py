@@ -14,7 +14,8 @@ which read the file back and rewrote it with the field data.
 - On a solved disc, write_step_files gives the files the old route gives
   for the same solution.
 - A write that fails or is interrupted half-way leaves neither a file under
-  the name nor a temporary file (io/atomic.py).
+  the name nor a temporary file (io/atomic.py); the temporary file of a
+  process killed outright goes when the folder is prepared for a result.
 """
 from __future__ import annotations
 
@@ -193,6 +194,23 @@ def test_a_write_stopped_half_way_leaves_the_previous_file_and_no_other(tmp_path
     with pytest.raises(error):
         vtu.write_vtu(tmp_path / "step_0001.vtu", points, cells, {**point_data, "bad": bad}, field_data=fd)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["step_0000.vtu"]
+
+
+def test_the_temporary_file_of_a_killed_write_goes_with_the_next_result(tmp_path):
+    import tempfile
+
+    from wingcrack.io.atomic import temporary_of
+    from wingcrack.io.outdir import leftovers, prepare
+
+    names = ["step_0003.vtu", "faces_0003.vtu", "summary.json", "checkpoint.npz", "fields.pvd"]
+    left = [Path(tempfile.mkstemp(prefix=f".{Path(n).stem}.", dir=tmp_path)[1]) for n in names]   # as write_atomic
+    assert [temporary_of(p.name) for p in left] == [Path(n).stem for n in names]
+    kept = [tmp_path / ".notes.txt", tmp_path / "my_data.vtu", tmp_path / ".step_0003.vtu"]
+    for p in kept:
+        p.write_text("not ours")
+    assert leftovers(tmp_path) == sorted(left)
+    prepare(tmp_path)   # no result in it: not refused, and the leftovers go
+    assert sorted(tmp_path.iterdir()) == sorted(kept)
 
 
 @pytest.fixture(scope="module")

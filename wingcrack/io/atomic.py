@@ -4,8 +4,12 @@ sees, and a run stopped half-way never leaves, half a file."""
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from pathlib import Path
+
+# the temporary name of write_atomic's `path`: "." + path's stem + "." + tempfile's eight characters
+_TEMPORARY = re.compile(r"\.(.+)\.[a-z0-9_]{8}")
 
 
 def write_atomic(path, data) -> Path:
@@ -30,3 +34,11 @@ def write_atomic(path, data) -> Path:
             os.unlink(tmp)
         raise
     return path
+
+
+def temporary_of(name: str) -> str | None:
+    """The stem of the file that write_atomic was writing under the
+    temporary name `name` (left behind by a process killed outright), or
+    None when `name` is no such name."""
+    m = _TEMPORARY.fullmatch(name)
+    return m.group(1) if m else None
