@@ -31,12 +31,14 @@ from .atomic import write_atomic
 
 #: bytes of an array compressed as one zlib stream (meshio's and VTK's block size)
 BLOCK = 32768
+# Deflating is most of the cost of a step file. ISA-L's deflate (its default
+# level 2) makes zlib streams that zlib and VTK inflate as any other, faster
+# than zlib's fastest level and about as small as zlib's default level 6;
+# without it, zlib's fastest level (somewhat larger files than level 6).
 try:
-    # ISA-L's deflate: zlib streams that zlib and VTK inflate as any other, in
-    # a fifth of the time of zlib's fastest level and as small as its level 6
     from isal.isal_zlib import compress as _fast_compress
     FAST = ("isal", 2)
-except ImportError:   # zlib's fastest level: a few per cent larger than its default 6, under half the time
+except ImportError:
     from zlib import compress as _fast_compress
     FAST = ("zlib", 1)
 #: VTK cell type codes of the cell kinds wingcrack writes (meshio's names)
