@@ -1,4 +1,4 @@
-"""The fracture faces as a polyline file (VTU through meshio): at every face
+"""The fracture faces as a polyline file (VTU, io/vtu.py): at every face
 node of the + face, the opening, slip, tractions, contact state, slip
 increment and fluid pressure of its face-node pair.
 
@@ -71,9 +71,7 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     (see the module doc; zero, OPEN, at tips, which are not pairs) from the
     pair values of face_state; `field_data` ({name: number}) as in
     write_fields, and the state codes."""
-    import meshio
-
-    from .pvd import add_field_data
+    from .vtu import write_vtu
 
     st = face_state(cm, values)
     edges = np.asarray(cm.crack_edges, dtype=np.int64)
@@ -88,7 +86,5 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     data["state"][where[on_face]] = st["state"][on_face]
     pts = np.c_[np.asarray(cm.x)[nodes], np.zeros(len(nodes))]
     frac = np.asarray(cm.crack_fracture, dtype=np.int64)
-    meshio.Mesh(pts, [("line3", local.reshape(-1, 3))], point_data=data,
-                cell_data={"fracture": [frac]}).write(Path(path))
-    add_field_data(path, {**(field_data or {}), **STATE_CODES})
-    return Path(path)
+    return write_vtu(path, pts, [("line3", local.reshape(-1, 3))], data, cell_data={"fracture": [frac]},
+                     field_data={**(field_data or {}), **STATE_CODES})

@@ -8,7 +8,8 @@ DOLFINx 0.5's XDMF writer pulls mesh nodes back to the reference cell with a
 Newton iteration, which cannot converge in quarter-point cells (their
 Jacobian vanishes at the tip); writing the CrackMesh nodes directly avoids
 that and keeps the file in the mesh's own node numbering. The fem layer
-gathers the values on rank 0 (fem/nodal_fields.py), which writes the file.
+gathers the values on rank 0 (fem/nodal_fields.py), which writes the file
+(io/vtu.py: meshio's layout, with the field data, in one pass).
 """
 from __future__ import annotations
 
@@ -31,20 +32,15 @@ def write_field_arrays(path: Path, cm, fields: dict | None, field_data: dict | N
     `path` (.vtu); `field_data` ({name: number}, e.g. the step and its load
     factor) goes into the file's field data. Nothing is written where
     `fields` is None (the ranks but 0 of a parallel run)."""
-    import meshio
-
-    from .pvd import add_field_data
+    from .vtu import write_vtu
 
     path = Path(path)
     if fields is not None:
         points = np.c_[cm.x, np.zeros(len(cm.x))]
         disp = np.c_[fields["displacement"], np.zeros(len(cm.x))]
-        mesh = meshio.Mesh(points, [("triangle6", np.asarray(cm.cells))],
-                           point_data={"displacement": disp, "stress": stress_tensor(fields["stress"]),
-                                       "von_mises": fields["von_mises"]})
-        mesh.write(path)
-        if field_data:
-            add_field_data(path, field_data)
+        write_vtu(path, points, [("triangle6", np.asarray(cm.cells))],
+                  {"displacement": disp, "stress": stress_tensor(fields["stress"]), "von_mises": fields["von_mises"]},
+                  field_data=field_data)
     return path
 
 

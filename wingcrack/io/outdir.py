@@ -67,6 +67,19 @@ def result_files(folder) -> list[Path]:
     return sorted(p for p in folder.iterdir() if p.name in _NAMES or _STEP_FILE.fullmatch(p.name))
 
 
+def leftovers(folder) -> list[Path]:
+    """The temporary files of result files that a killed run was writing
+    (io/atomic.py): never part of a result, removed when a result is made."""
+    from .atomic import temporary_of
+
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    stems = {Path(n).stem for n in _NAMES}
+    return sorted(p for p in folder.iterdir() if (stem := temporary_of(p.name)) is not None
+                  and (stem in stems or _STEP_FILE.fullmatch(stem + ".vtu")))
+
+
 def _names(files) -> str:
     steps = [p for p in files if _STEP_FILE.fullmatch(p.name)]
     named = [p.name for p in files if p not in steps]
@@ -78,7 +91,8 @@ def prepare(out, force: bool = False) -> Path:
 
     Raises FolderError when `out` is a file, cannot be created or written,
     or holds a previous result and `force` is false. With `force`, the
-    previous result's files are deleted."""
+    previous result's files are deleted; the temporary files that a killed
+    run left (leftovers) are deleted in any case."""
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise FolderError(out, "is a file, not a folder")
@@ -91,7 +105,7 @@ def prepare(out, force: bool = False) -> Path:
         raise FolderError(out, f"cannot create the folder ({err.strerror or err})") from None
     check_writable(out)
     try:
-        for p in previous:
+        for p in previous + leftovers(out):
             p.unlink()
     except OSError as err:
         raise FolderError(out, f"cannot replace the previous result ({err.strerror or err})") from None

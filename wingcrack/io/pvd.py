@@ -38,7 +38,9 @@ def write_pvd(path, files, times=None) -> Path:
 
 def add_field_data(path, values: dict) -> Path:
     """Put {name: number} into the field data of the VTU file `path` (meshio
-    5 does not write field data), where ParaView shows it as global data."""
+    5 does not write field data), where ParaView shows it as global data.
+    The step files have them from io/vtu.py in one pass; this rewrite of a
+    meshio file is the route it replaced (tests/test_output_vtu.py)."""
     path = Path(path)
     tree = ET.parse(path, parser=ET.XMLParser(target=ET.TreeBuilder(insert_comments=True)))
     grid = tree.getroot().find("UnstructuredGrid")
