@@ -35,7 +35,8 @@ def variant(src: Path, path: Path, steps: int = STEPS) -> Path:
     import sys
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from case_variant import write_variant
-    return write_variant(src, {"mesh.size": 0.002, "mesh.adaptive": False, "propagation.steps": steps}, path)
+    write_variant(src, {"mesh.size": 0.002, "mesh.adaptive": False, "propagation.steps": steps}, path)
+    return wingcrack.Case.from_toml(path)
 
 
 def tips(steps):
