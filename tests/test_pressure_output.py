@@ -88,7 +88,8 @@ def test_finish_records_what_the_discretisation_says_the_pressures_are():
     from wingcrack.step import Timer, finish
 
     cm = SimpleNamespace(pairs=np.zeros((0, 2)), stats={"min_quality": 0.5, "min_jacobian": 1.0, "nodes": 9,
-                                                        "tips": 2, "gmsh_retried": False, "symmetric": False})
+                                                        "tips": 2, "gmsh_retried": False, "symmetric": False,
+                                                        "far_field": None})
     asked = []
 
     class Disc:

@@ -28,6 +28,13 @@ def strain(u):
     return ufl.sym(ufl.grad(u))
 
 
+#: right-hand sides (with their solutions) ElasticProblem.solve keeps: b is
+#: affine in the load factor, so two span every other
+SPAN = 2
+#: b lies in their span when the least-squares residual is below this times
+#: |b|: the assembly of b0 + lambda b1 rounds each entry to about eps, and a
+#: direct solve's own backward error is no smaller
+SPAN_TOLERANCE = 1e-14
 #: MUMPS CNTL(3): pivots below this times ||K|| count as null (see factorize)
 NULL_PIVOT = 1e-12
 #: below this many DOFs the factorisation orders K by approximate minimum
@@ -87,6 +94,7 @@ class ElasticProblem:
         self._factored = False
         self._schur = None
         self._condensed = None    # fem.far_field.Condensed when factorize reused a far field
+        self._forget()
         self.schur_dofs = None
         self.reused_far = False
         self.far_seconds = {}
@@ -182,6 +190,7 @@ class ElasticProblem:
         self._schur = None
         self.reused_far = False
         self.far_seconds = {}
+        self._forget()   # solutions of another factorisation
         if self._condensed is not None:
             self._condensed.destroy()
             self._condensed = None
@@ -253,16 +262,51 @@ class ElasticProblem:
         return b
 
     def solve(self, load_factor: float = 1.0) -> fem.Function:
+        """The displacement at `load_factor`. The right-hand side is affine
+        in the load factor (b0 + lambda b1), so once it lies in the span of
+        the last SPAN right-hand sides of this factorisation (the second
+        solve of a problem without fixed loads, the third of any) u is
+        their solutions' combination, with no solve."""
         if not self._factored:
             self.factorize()
         b = self.assemble_rhs(load_factor)
         self.load_factor_solved = float(load_factor)   # what u belongs to (the face pressure of the SIFs)
-        self.solve_vector(b, self.u.vector)
+        if not self._from_span(b):
+            self.solve_vector(b, self.u.vector)
+            self._remember(b)
         self.u.x.scatter_forward()
         if not np.all(np.isfinite(self.u.x.array)):
             from ..errors import ComputationError
             raise ComputationError("the displacement has NaN/inf: the body is not held (singular system)")
         return self.u
+
+    def _from_span(self, b: PETSc.Vec) -> bool:
+        """u = U alpha where b = B alpha to SPAN_TOLERANCE |b| (B, U: the
+        kept right-hand sides and solutions, owned parts; collective)."""
+        B, U = self._span
+        if not B.shape[1]:
+            return False
+        comm = self.fm.mesh.comm
+        bl = b.getArray(readonly=True)
+        G = comm.allreduce(B.T @ B)
+        g = comm.allreduce(B.T @ bl)
+        alpha = np.linalg.lstsq(G, g, rcond=None)[0]
+        r = bl - B @ alpha
+        if comm.allreduce(float(r @ r)) > SPAN_TOLERANCE**2 * comm.allreduce(float(bl @ bl)):
+            return False
+        self.u.vector.getArray()[:] = U @ alpha
+        self.span_solves += 1
+        return True
+
+    def _remember(self, b: PETSc.Vec) -> None:
+        B, U = self._span
+        self._span = (np.column_stack([B[:, -(SPAN - 1):], b.getArray(readonly=True)]),
+                      np.column_stack([U[:, -(SPAN - 1):], self.u.vector.getArray(readonly=True)]))
+
+    def _forget(self) -> None:
+        n = self.fm.V.dofmap.index_map.size_local * self.fm.V.dofmap.index_map_bs
+        self._span = (np.zeros((n, 0)), np.zeros((n, 0)))
+        self.span_solves = 0
 
     def solve_vector(self, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
         """out = K^-1 rhs, vectors in the problem's dof layout, through the

@@ -223,6 +223,7 @@ class FarField:
         return self.nI, self.nG
 
     def destroy(self) -> None:
+        self._matched = None
         for obj in (self.F, self._rhs, self._x):
             obj.destroy()
 
@@ -264,8 +265,17 @@ class FarField:
         return from_epoch[self.I_nodes], from_epoch[self.G_nodes]
 
     def matches(self, cm) -> bool:
-        """Whether cm's far field is the epoch's (see node_map)."""
-        return self.node_map(cm) is not None
+        """Whether cm's far field is the epoch's (see node_map). The map is
+        kept for the factorisation of the same mesh that usually follows."""
+        self._matched = (cm, self.node_map(cm))
+        return self._matched[1] is not None
+
+    def _node_map_of(self, cm):
+        """node_map(cm), the one matches(cm) found when it was asked of this very mesh."""
+        last = getattr(self, "_matched", None)
+        if last is not None and last[0] is cm:
+            return last[1]
+        return self.node_map(cm)
 
     # -- solves -------------------------------------------------------------
     def solve(self, top: np.ndarray, bottom: np.ndarray) -> np.ndarray:
@@ -299,7 +309,7 @@ class FarField:
         field, or None when its far field is not the epoch's. Records the
         seconds of its parts in problem.far_seconds."""
         t0 = time.perf_counter()
-        found = self.node_map(problem.cm)
+        found = self._node_map_of(problem.cm)
         seconds = problem.far_seconds
         seconds["match"] = time.perf_counter() - t0
         if found is None:
