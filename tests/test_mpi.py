@@ -200,3 +200,27 @@ def test_api_run_then_sif_in_one_script_on_two_ranks(tmp_path):
                           capture_output=True, text=True, env=mpi_env(), timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["finished"] * 4
+
+
+def test_a_fixed_mesh_run_on_two_ranks_follows_the_one_that_reuses_its_far_field(tmp_path):
+    """On one process a fixed mesh's far field is factorised once and reused
+    (fem.far_field); on two every step factorises K whole (MUMPS Schur
+    complements are one-process only): the same meshes (the patch is the
+    mesher's on every rank count), SIFs and paths as above."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from case_variant import write_variant
+    path = write_variant(ROOT / "cases" / "brazilian_disc_45.toml",
+                         {"mesh.size": 0.002, "mesh.adaptive": False, "propagation.steps": 6}, tmp_path / "case.toml")
+    wingcrack(1, "run", path, "-o", tmp_path / "one", "--quiet", "--no-plots")
+    wingcrack(2, "run", path, "-o", tmp_path / "two", "--quiet", "--no-plots")
+    a, b = summary(tmp_path / "one"), summary(tmp_path / "two")
+    assert [st["mesh"]["far_field"] for st in a["steps"]][1:].count("reused") >= 3
+    assert [st["mesh"]["far_field"] for st in b["steps"]] == [None] * len(b["steps"])
+    assert a["status"] == b["status"] and len(a["steps"]) == len(b["steps"]) == 6
+    for sa, sb in zip(a["steps"], b["steps"]):
+        assert sa["dofs"] == sb["dofs"]
+        assert abs(sa["load_factor"] - sb["load_factor"]) <= 1e-8 * sa["load_factor"]
+        assert_sifs_agree(sa, sb)
+    for p, q in zip(a["fractures"], b["fractures"]):
+        p, q = np.array(p["points"]), np.array(q["points"])
+        assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * 0.084
