@@ -601,87 +601,29 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
     gmsh.model.add("wingcrack")
     meshed = (lambda x: True) if half is None else half.left
 
-    # Outer boundary: anchors and corners in counter-clockwise order.
-    anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
-    ring = _boundary_ring(domain, plan, geo, anchor_tag)  # [(point tag, name of the curve after it)]
-    center = geo.addPoint(*domain.center, 0.0) if domain.shape == "disc" else None
-    if half is None:
-        pieces = list(zip(ring, ring[1:] + ring[:1]))
-    else:  # from the divider's end p counter-clockwise to its other end R(p)
-        tags = [tag for tag, _ in ring]
-        start, stop = tags.index(_anchor_at(plan, anchor_tag, half.points[-1])), tags.index(
-            _anchor_at(plan, anchor_tag, half.points[0])
-        )
-        arc = ring[start:] + ring[:start]
-        arc = arc[: (stop - start) % len(ring) + 1]
-        pieces = list(zip(arc[:-1], arc[1:]))
-    boundary_curves: list[tuple[int, str]] = []
-    for (a, name), (b, _) in pieces:
-        curve = geo.addCircleArc(a, center, b) if center is not None else geo.addLine(a, b)
-        boundary_curves.append((curve, name))
+    anchor_tag, boundary_curves = _outer_curves(geo, domain, plan, half)
     outer = [c for c, _ in boundary_curves]
 
     # Rosettes: one transfinite triangle per sector, spoke 0 along the crack.
-    rosettes, tip_point, spoke_on_crack, holes = [], [], [], []
+    rosettes, holes = [], []
+    tip_point, spoke_on_crack = [None] * len(plan.tips), [None] * len(plan.tips)
     tip_of = {(t.fracture, t.end): k for k, t in enumerate(plan.tips)}
-    for t in plan.tips:
-        centre = geo.addPoint(t.x[0], t.x[1], 0.0)
-        if not meshed(t.x):  # the other half's tip: a point for the size field only
-            tip_point.append((centre, None))
-            spoke_on_crack.append(None)
-            continue
-        phi0 = math.atan2(t.back[1], t.back[0])
-        ring_pts = []
-        for k in range(sectors):
-            phi = phi0 + 2.0 * math.pi * k / sectors
-            p = t.x + t.h * (t.back if k == 0 else np.array([math.cos(phi), math.sin(phi)]))
-            ring_pts.append(geo.addPoint(p[0], p[1], 0.0))
-        spokes = [geo.addLine(centre, r) for r in ring_pts]
-        chords = [geo.addLine(ring_pts[k], ring_pts[(k + 1) % sectors]) for k in range(sectors)]
-        for k in range(sectors):
-            loop = geo.addCurveLoop([spokes[k], chords[k], -spokes[(k + 1) % sectors]])
-            rosettes.append((geo.addPlaneSurface([loop]), (centre, ring_pts[k], ring_pts[(k + 1) % sectors])))
-        holes.append(geo.addCurveLoop(chords))
-        tip_point.append((centre, ring_pts[0]))
-        spoke_on_crack.append(spokes[0])
-        for c in spokes + chords:
-            geo.mesh.setTransfiniteCurve(c, 2)
+    for k, t in enumerate(plan.tips):   # the other half's tips: a point for the size field only
+        loops, hole = _rosette_curves(geo, t, sectors, meshed, tip_point, spoke_on_crack, k)
+        rosettes += [(geo.addPlaneSurface([loop]), corners) for loop, corners in loops]
+        if hole is not None:
+            holes.append(hole)
 
     # Fracture curves outside the rosettes, in order along each fracture.
     # Vertex tags first (a T-junction end takes its host's vertex), then lines.
-    vertex_tags = []
-    for f, pts in enumerate(plan.fractures):
-        tags = [0] * len(pts)
-        for end, i in ((0, 0), (1, len(pts) - 1)):
-            if (f, end) in plan.mouth_anchor:
-                tags[i] = anchor_tag[plan.mouth_anchor[(f, end)]]
-            elif (f, end) in tip_of and spoke_on_crack[tip_of[(f, end)]] is not None:
-                tags[i] = tip_point[tip_of[(f, end)]][1]
-        joined = {0 if end == 0 else len(pts) - 1 for (g, end) in plan.junction if g == f}
-        for i in range(len(pts)):
-            if not tags[i] and i not in joined:  # inner vertices; an end met end to end by another
-                tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
-        vertex_tags.append(tags)
-    for (f, end), (g, vertex) in plan.junction.items():
-        vertex_tags[f][0 if end == 0 else -1] = vertex_tags[g][vertex]
-    crack_curves: list[tuple[int, int, np.ndarray]] = []  # (curve, fracture, d)
-    elsewhere: list[int] = []  # the other half's crack curves (size field only)
-    for f, pts in enumerate(plan.fractures):
-        tags = vertex_tags[f]
-        if (f, 0) in tip_of and spoke_on_crack[tip_of[(f, 0)]] is not None:
-            crack_curves.append((spoke_on_crack[tip_of[(f, 0)]], f, pts[1] - pts[0]))
-        for s in range(len(pts) - 1):
-            line = geo.addLine(tags[s], tags[s + 1])
-            if meshed(0.5 * (pts[s] + pts[s + 1])):
-                crack_curves.append((line, f, pts[s + 1] - pts[s]))
-            else:
-                elsewhere.append(line)
-        if (f, 1) in tip_of and spoke_on_crack[tip_of[(f, 1)]] is not None:
-            crack_curves.append((spoke_on_crack[tip_of[(f, 1)]], f, pts[-1] - pts[-2]))
+    vertex_tags, curves_of = {}, {}
+    embedded, elsewhere = _fracture_curves(geo, plan, range(len(plan.fractures)), anchor_tag, tip_of, tip_point,
+                                           spoke_on_crack, meshed, vertex_tags, curves_of)
+    crack_curves = [c for f in range(len(plan.fractures)) for c in curves_of[f]]  # (curve, fracture, d)
 
     divider: list[int] = []
     if half is not None:  # from R(p) through the crossings and the centre to p
-        tags = [_divider_point(plan, anchor_tag, vertex_tags, geo, q) for q in half.points]
+        tags = [_vertex_at(plan, anchor_tag, vertex_tags, geo, q) for q in half.points]
         divider = [geo.addLine(a, b) for a, b in zip(tags[:-1], tags[1:])]
         outer += divider
     surface = geo.addPlaneSurface([geo.addCurveLoop(outer)] + holes)
@@ -694,7 +636,6 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
         m = len(divider) // 2
         for k in range(m):
             gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
-    embedded = [c for c, _, _ in crack_curves if c not in set(spoke_on_crack)]
     if embedded:
         gmsh.model.mesh.embed(1, embedded, 2, surface)
 
@@ -961,22 +902,7 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     key = _FarCache.key(domain, plan, inside, circle, half, size, tip_size, sectors, sizes, mirror_sizes, algorithm)
     cached = _FarCache.get(key) if reuse else None
 
-    anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
-    ring = _boundary_ring(domain, plan, geo, anchor_tag)
-    center = geo.addPoint(*domain.center, 0.0) if domain.shape == "disc" else None
-    if half is None:
-        pieces = list(zip(ring, ring[1:] + ring[:1]))
-    else:
-        tags = [tag for tag, _ in ring]
-        start = tags.index(_anchor_at(plan, anchor_tag, half.points[-1]))
-        stop = tags.index(_anchor_at(plan, anchor_tag, half.points[0]))
-        arc = ring[start:] + ring[:start]
-        arc = arc[: (stop - start) % len(ring) + 1]
-        pieces = list(zip(arc[:-1], arc[1:]))
-    boundary_curves: list[tuple[int, str]] = []
-    for (a, name), (b, _) in pieces:
-        curve = geo.addCircleArc(a, center, b) if center is not None else geo.addLine(a, b)
-        boundary_curves.append((curve, name))
+    anchor_tag, boundary_curves = _outer_curves(geo, domain, plan, half)
     hub = geo.addPoint(c[0], c[1], 0.0)
     node = [geo.addPoint(p[0], p[1], 0.0) for p in circle.points]
     arcs = [geo.addCircleArc(node[j], hub, node[(j + 1) % n]) for j in range(n)]
@@ -1144,7 +1070,9 @@ def _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, mes
 
 
 def _vertex_at(plan, anchor_tag, vertex_tags, geo, q) -> int:
-    """_divider_point with the fractures built so far (vertex_tags: f -> tags)."""
+    """The point tag at divider vertex q: an anchor (its ends), a fracture
+    vertex built so far (vertex_tags: f -> tags; a crossing, inserted with
+    q's coordinates), or a new point (the centre off every fracture)."""
     for k, (_, _, a) in enumerate(plan.anchors):
         if np.array_equal(a, q):
             return anchor_tag[k]
@@ -1153,6 +1081,29 @@ def _vertex_at(plan, anchor_tag, vertex_tags, geo, q) -> int:
         if len(hit):
             return tags[int(hit[0])]
     return geo.addPoint(q[0], q[1], 0.0)
+
+
+def _outer_curves(geo, domain, plan: _Plan, half) -> tuple[list[int], list[tuple[int, str]]]:
+    """The outer boundary in gmsh: the anchors' point tags and the boundary
+    curves [(curve, name)] counter-clockwise, all of them, or with `half`
+    those from the divider's end p to its other end R(p)."""
+    anchor_tag = [geo.addPoint(p[0], p[1], 0.0) for _, _, p in plan.anchors]
+    ring = _boundary_ring(domain, plan, geo, anchor_tag)  # [(point tag, name of the curve after it)]
+    center = geo.addPoint(*domain.center, 0.0) if domain.shape == "disc" else None
+    if half is None:
+        pieces = list(zip(ring, ring[1:] + ring[:1]))
+    else:
+        tags = [tag for tag, _ in ring]
+        start = tags.index(_anchor_at(plan, anchor_tag, half.points[-1]))
+        stop = tags.index(_anchor_at(plan, anchor_tag, half.points[0]))
+        arc = ring[start:] + ring[:start]
+        arc = arc[: (stop - start) % len(ring) + 1]
+        pieces = list(zip(arc[:-1], arc[1:]))
+    boundary_curves = []
+    for (a, name), (b, _) in pieces:
+        curve = geo.addCircleArc(a, center, b) if center is not None else geo.addLine(a, b)
+        boundary_curves.append((curve, name))
+    return anchor_tag, boundary_curves
 
 
 def _boundary_ring(domain, plan, geo, anchor_tag) -> list[tuple[int, str]]:
@@ -1179,20 +1130,6 @@ def _boundary_ring(domain, plan, geo, anchor_tag) -> list[tuple[int, str]]:
 def _anchor_at(plan, anchor_tag, p) -> int:
     k = int(np.argmin([np.linalg.norm(a - p) for _, _, a in plan.anchors]))
     return anchor_tag[k]
-
-
-def _divider_point(plan, anchor_tag, vertex_tags, geo, q) -> int:
-    """The point tag at divider vertex q: an anchor (its ends), a fracture
-    vertex (a crossing, inserted with q's coordinates), or a new point (the
-    centre off every fracture)."""
-    for k, (_, _, a) in enumerate(plan.anchors):
-        if np.array_equal(a, q):
-            return anchor_tag[k]
-    for f, pts in enumerate(plan.fractures):
-        hit = np.flatnonzero(np.all(pts == q, axis=1))
-        if len(hit):
-            return vertex_tags[f][int(hit[0])]
-    return geo.addPoint(q[0], q[1], 0.0)
 
 
 def _with_divider(domain, plan: _Plan, half) -> _Plan:

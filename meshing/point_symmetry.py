@@ -141,17 +141,14 @@ def fracture_images(polylines, c, tol) -> list[tuple[int, bool]] | None:
     return out
 
 
-def find_half(domain, polylines, tips, anchors, tip_size: float) -> Half | None:
-    """The divider for a point-symmetric geometry, or None (not symmetric, or
-    no line through the centre keeps clear of tips, vertices and anchors).
-
-    polylines: the plan's fractures; tips: (x, h) of every tip; anchors:
-    boundary points that must stay nodes (bc points, crack mouths)."""
+def _symmetric(domain, polylines, tips, anchors):
+    """(centre, tolerance, fracture images, tip positions (t, 2), points a
+    divider must keep clear of) of a point-symmetric geometry, None when it
+    is not one: no centre, a fracture or a tip without its image."""
     c = domain_center(domain)
     if c is None:
         return None
-    scale = domain.length_scale()
-    tol = 1e-9 * scale
+    tol = 1e-9 * domain.length_scale()
     images = fracture_images(polylines, c, tol)
     if images is None:
         return None
@@ -160,6 +157,19 @@ def find_half(domain, polylines, tips, anchors, tip_size: float) -> Half | None:
         return None
     fixed = [np.asarray(a, dtype=np.float64) for a in anchors]
     fixed += [rotate(a, c) for a in fixed] + list(domain.vertices())
+    return c, tol, images, tip_x, fixed
+
+
+def find_half(domain, polylines, tips, anchors, tip_size: float) -> Half | None:
+    """The divider for a point-symmetric geometry, or None (not symmetric, or
+    no line through the centre keeps clear of tips, vertices and anchors).
+
+    polylines: the plan's fractures; tips: (x, h) of every tip; anchors:
+    boundary points that must stay nodes (bc points, crack mouths)."""
+    found = _symmetric(domain, polylines, tips, anchors)
+    if found is None:
+        return None
+    c, tol, images, tip_x, fixed = found
     best, best_score = None, 0.0
     for psi in CANDIDATES:
         u = np.array([math.cos(psi), math.sin(psi)])
@@ -229,21 +239,12 @@ def find_half_patched(domain, polylines, tips, anchors, tip_size: float, radius:
     Every fracture lies wholly inside or wholly outside the circle (the
     caller's rule). None when the geometry is not symmetric or either
     divider finds no direction."""
-    c = domain_center(domain)
-    if c is None:
+    found = _symmetric(domain, polylines, tips, anchors)
+    if found is None:
         return None
-    scale = domain.length_scale()
-    tol = 1e-9 * scale
-    images = fracture_images(polylines, c, tol)
-    if images is None:
-        return None
-    tip_x = np.array([t[0] for t in tips], dtype=np.float64).reshape(-1, 2)
-    if len(tip_x) and np.max(np.min(np.linalg.norm(rotate(tip_x, c)[:, None] - tip_x[None], axis=2), axis=1)) > tol:
-        return None
+    c, tol, images, tip_x, fixed = found
     inside = [np.linalg.norm(p[0] - c) < radius for p in polylines]
     tip_in = np.linalg.norm(tip_x - c, axis=1) < radius
-    fixed = [np.asarray(a, dtype=np.float64) for a in anchors]
-    fixed += [rotate(a, c) for a in fixed] + list(domain.vertices())
     n = len(circle)
     picks = []
     for outer in (True, False):

@@ -23,8 +23,6 @@ import numpy as np
 import pytest
 from scipy import sparse
 
-from builders import square_plate_with_cracks
-from wingcrack.case import Case
 from wingcrack.contact.constraints import constraint_rows
 from wingcrack.errors import ComputationError
 from wingcrack.fem.contact_problem import ContactProblem
@@ -35,16 +33,10 @@ from wingcrack.fem.pair_operator import PairOperator
 from wingcrack.loads import case_loads
 from wingcrack.step import Timer, discretise
 
+from test_factorisation_options import plate   # the plate with an inclined crack, open or frictionless
+
 R_PATCH = 6.0
 TOL = 1e-11
-
-
-def plate(faces="open"):
-    t = np.array([np.sin(np.radians(60)), np.cos(np.radians(60))])
-    d = square_plate_with_cracks(40.0, [[-t, t]], (2.0e5, -1.0e6, 3.0e5), size=0.9, tip_size=0.1)
-    for f in d["fractures"]:
-        f["faces"] = faces
-    return Case.from_dict(d)
 
 
 def with_far(cm, radius=R_PATCH):
