@@ -10,7 +10,16 @@ IJSS 2020).
 DOLFINx is imported only when a computation starts, so reading and checking
 cases stays fast.
 """
+import os as _os
+
 from .version import __version__
+
+# A process no launcher started is an MPI singleton, for which Open MPI's
+# MPI_Init starts a helper daemon unless the singleton is declared isolated:
+# wingcrack never spawns processes through MPI, so it need not be. Set
+# before anything imports mpi4py; a launcher's jobs (mpirun, srun) are not
+# singletons and never read it, and a user's own setting wins.
+_os.environ.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
 
 __all__ = ["Case", "CaseError", "ComputationError", "FolderError", "sif", "run", "plot", "__version__"]
 
