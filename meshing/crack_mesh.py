@@ -1205,11 +1205,17 @@ def _size_field(plan: _Plan, tip_points, crack_curves, size, tip_size, sectors, 
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
     gmsh.option.setNumber("Mesh.MeshSizeMax", size)
     parts = []
+    # tips of one rosette radius share one distance field: the threshold grows
+    # with the distance, so the least of their thresholds is the threshold of
+    # the nearest tip, and one field evaluates it once instead of once a tip
+    by_radius: dict[float, list[int]] = {}
     for t, centre in zip(plan.tips, tip_points):
-        h_ring = 2.0 * t.h * math.sin(math.pi / sectors)
+        by_radius.setdefault(t.h, []).append(centre)
+    for h, centres in by_radius.items():
+        h_ring = 2.0 * h * math.sin(math.pi / sectors)
         d = field.add("Distance")
-        field.setNumbers(d, "PointsList", [centre])
-        parts.append(_threshold(d, h_ring, size, t.h, TIP_GRADING))
+        field.setNumbers(d, "PointsList", centres)
+        parts.append(_threshold(d, h_ring, size, h, TIP_GRADING))
     if crack_groups is None:
         crack_groups = [(crack_curves, plan.fractures)]
     for curves, polylines in crack_groups:
