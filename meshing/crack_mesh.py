@@ -630,12 +630,8 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
     for s, corners in rosettes:
         geo.mesh.setTransfiniteSurface(s, "Left", list(corners))
     geo.synchronize()
-    if half is not None:  # the divider's second half mirrors its first, node for node
-        cx, cy = half.center
-        turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
-        m = len(divider) // 2
-        for k in range(m):
-            gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
+    if half is not None:
+        _mirror_dividers(half, [divider])
     if embedded:
         gmsh.model.mesh.embed(1, embedded, 2, surface)
 
@@ -958,12 +954,8 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
         for s, corners in rosettes:
             geo.mesh.setTransfiniteSurface(s, "Left", list(corners))
     geo.synchronize()
-    if half is not None:  # each divider's second half mirrors its first, node for node
-        cx, cy = half.center
-        turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
-        for _, _, divider, _, _, _ in sides:
-            for k in range(len(divider) // 2):
-                gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
+    if half is not None:
+        _mirror_dividers(half, [divider for _, _, divider, _, _, _ in sides])
     for surface, _, _, embedded, _, _ in sides:
         if embedded:
             gmsh.model.mesh.embed(1, embedded, 2, surface)
@@ -1081,6 +1073,18 @@ def _vertex_at(plan, anchor_tag, vertex_tags, geo, q) -> int:
         if len(hit):
             return tags[int(hit[0])]
     return geo.addPoint(q[0], q[1], 0.0)
+
+
+def _mirror_dividers(half, dividers) -> None:
+    """Each divider's second half mirrors its first, node for node (gmsh
+    periodic curves under the half turn about the centre)."""
+    import gmsh
+
+    cx, cy = half.center
+    turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+    for divider in dividers:
+        for k in range(len(divider) // 2):
+            gmsh.model.mesh.setPeriodic(1, [divider[len(divider) - 1 - k]], [divider[k]], turn)
 
 
 def _outer_curves(geo, domain, plan: _Plan, half) -> tuple[list[int], list[tuple[int, str]]]:

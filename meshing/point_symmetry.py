@@ -160,6 +160,19 @@ def _symmetric(domain, polylines, tips, anchors):
     return c, tol, images, tip_x, fixed
 
 
+def _best(trials):
+    """(key, u, points) of the trial of the highest score among `trials`
+    ((key, u, (points, score) or None), tried lazily in turn): a later one
+    must beat the best so far by 1e-12, and a score of 1 ends the search."""
+    best, best_score = None, 0.0
+    for key, u, found in trials:
+        if found is not None and found[1] > best_score + 1e-12:
+            best, best_score = (key, u, found[0]), found[1]
+            if best_score >= 1.0:
+                break
+    return best
+
+
 def find_half(domain, polylines, tips, anchors, tip_size: float) -> Half | None:
     """The divider for a point-symmetric geometry, or None (not symmetric, or
     no line through the centre keeps clear of tips, vertices and anchors).
@@ -170,14 +183,12 @@ def find_half(domain, polylines, tips, anchors, tip_size: float) -> Half | None:
     if found is None:
         return None
     c, tol, images, tip_x, fixed = found
-    best, best_score = None, 0.0
-    for psi in CANDIDATES:
-        u = np.array([math.cos(psi), math.sin(psi)])
-        found = _divider(domain, polylines, tip_x, fixed, c, u, tip_size, tol)
-        if found is not None and found[1] > best_score + 1e-12:
-            best, best_score = (psi, u, found[0]), found[1]
-            if best_score >= 1.0:
-                break
+    def trials():
+        for psi in CANDIDATES:
+            u = np.array([math.cos(psi), math.sin(psi)])
+            yield psi, u, _divider(domain, polylines, tip_x, fixed, c, u, tip_size, tol)
+
+    best = _best(trials())
     if best is None:
         return None
     psi, u, points = best
@@ -193,30 +204,12 @@ def _divider(domain, polylines, tip_x, fixed, c, u, tip_size, tol):
     for a in fixed:
         if np.linalg.norm(a - p) < ANCHOR_CLEARANCE * tip_size or np.linalg.norm(a - rotate(p, c)) < ANCHOR_CLEARANCE * tip_size:
             return None
-    crossings, sines = [], [1.0]
-    for pts in polylines:
-        side = (pts - c) @ normal
-        for i, s in enumerate(side):
-            if abs(s) < VERTEX_CLEARANCE * tip_size and np.linalg.norm(pts[i] - c) > tol:
-                return None  # a vertex on (or near) the divider, other than the centre itself
-        for i in range(len(pts) - 1):
-            a, b = pts[i], pts[i + 1]
-            if side[i] * side[i + 1] >= 0.0:
-                continue  # no crossing (a vertex at the centre is one already)
-            t = side[i] / (side[i] - side[i + 1])
-            x = a + t * (b - a)
-            seg = (b - a) / np.linalg.norm(b - a)
-            sine = abs(seg @ normal)
-            if sine < MIN_CROSSING_SINE:
-                return None
-            if min(np.linalg.norm(x - a), np.linalg.norm(x - b)) < VERTEX_CLEARANCE * tip_size:
-                return None
-            crossings.append(x)
-            sines.append(sine)
+    found = _crossings_along(polylines, c, u, tip_size, tol)
+    if found is None:
+        return None
     # the divider's vertices along u: ends, crossings and the centre, symmetric by construction
-    along = [float((x - c) @ u) for x in crossings if (x - c) @ u > tol]
+    ts, sines = found
     r_p = float((p - c) @ u)
-    ts = sorted(set(along))
     if ts and (ts[0] < VERTEX_CLEARANCE * tip_size or r_p - ts[-1] < VERTEX_CLEARANCE * tip_size):
         return None
     if np.any(np.diff(ts) < VERTEX_CLEARANCE * tip_size):
@@ -249,18 +242,16 @@ def find_half_patched(domain, polylines, tips, anchors, tip_size: float, radius:
     picks = []
     for outer in (True, False):
         lines = [p for p, i in zip(polylines, inside) if i != outer]
-        best, best_score = None, 0.0
-        for k in range(n // 2):  # the nodes' directions cover [0, pi) once
-            q = np.asarray(circle[k], dtype=np.float64)
-            u = (q - c) / np.linalg.norm(q - c)
-            if outer:
-                found = _outer_piece(domain, lines, tip_x[~tip_in], fixed, c, u, q, tip_size, radius, tol)
-            else:
-                found = _inner_piece(lines, tip_x[tip_in], c, u, q, tip_size, radius, tol)
-            if found is not None and found[1] > best_score + 1e-12:
-                best, best_score = (k, u, found[0]), found[1]
-                if best_score >= 1.0:
-                    break
+        def trials(outer=outer, lines=lines):
+            for k in range(n // 2):  # the nodes' directions cover [0, pi) once
+                q = np.asarray(circle[k], dtype=np.float64)
+                u = (q - c) / np.linalg.norm(q - c)
+                if outer:
+                    yield k, u, _outer_piece(domain, lines, tip_x[~tip_in], fixed, c, u, q, tip_size, radius, tol)
+                else:
+                    yield k, u, _inner_piece(lines, tip_x[tip_in], c, u, q, tip_size, radius, tol)
+
+        best = _best(trials())
         if best is None:
             return None
         picks.append(best)
@@ -282,11 +273,11 @@ def _crossings_along(polylines, c, u, tip_size, tol):
         side = (pts - c) @ normal
         for i, s in enumerate(side):
             if abs(s) < VERTEX_CLEARANCE * tip_size and np.linalg.norm(pts[i] - c) > tol:
-                return None
+                return None  # a vertex on (or near) the line, other than the centre itself
         for i in range(len(pts) - 1):
             a, b = pts[i], pts[i + 1]
             if side[i] * side[i + 1] >= 0.0:
-                continue
+                continue  # no crossing (a vertex at the centre is one already)
             t = side[i] / (side[i] - side[i + 1])
             x = a + t * (b - a)
             sine = abs((b - a) / np.linalg.norm(b - a) @ normal)
