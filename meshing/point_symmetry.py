@@ -197,29 +197,19 @@ def find_half(domain, polylines, tips, anchors, tip_size: float) -> Half | None:
 
 def _divider(domain, polylines, tip_x, fixed, c, u, tip_size, tol):
     """(divider points from R(p) to p, score in (0, 1]) for direction u, or None."""
-    normal = np.array([-u[1], u[0]])
-    if len(tip_x) and np.min(np.abs((tip_x - c) @ normal)) < TIP_CLEARANCE * tip_size:
-        return None
     p = _boundary_hit(domain, c, u)
     for a in fixed:
         if np.linalg.norm(a - p) < ANCHOR_CLEARANCE * tip_size or np.linalg.norm(a - rotate(p, c)) < ANCHOR_CLEARANCE * tip_size:
             return None
-    found = _crossings_along(polylines, c, u, tip_size, tol)
+    # the divider's vertices along u: ends, crossings and the centre, symmetric by construction
+    found = _line_vertices(polylines, tip_x, c, u, tip_size, tol, 0.0, float((p - c) @ u))
     if found is None:
         return None
-    # the divider's vertices along u: ends, crossings and the centre, symmetric by construction
     ts, sines = found
-    r_p = float((p - c) @ u)
-    if ts and (ts[0] < VERTEX_CLEARANCE * tip_size or r_p - ts[-1] < VERTEX_CLEARANCE * tip_size):
-        return None
-    if np.any(np.diff(ts) < VERTEX_CLEARANCE * tip_size):
-        return None
     positive = [c + t * u for t in ts] + [p]
     # the crossings on the far side are the exact images of those on the near side
     points = np.array([rotate(x, c) for x in positive[::-1]] + [c] + positive)
-    clearance = np.min(np.abs((tip_x - c) @ normal)) if len(tip_x) else np.inf
-    score = min(1.0, min(sines) / math.sin(math.radians(60.0)), clearance / (2.0 * TIP_CLEARANCE * tip_size))
-    return points, score
+    return points, _score(sines, tip_x, c, u, tip_size)
 
 
 def find_half_patched(domain, polylines, tips, anchors, tip_size: float, radius: float, circle) -> Half | None:
@@ -262,6 +252,27 @@ def find_half_patched(domain, polylines, tips, anchors, tip_size: float, radius:
                 inner=inner, k_out=k_out)
 
 
+def _line_vertices(polylines, tip_x, c, u, tip_size, tol, start: float, end: float):
+    """(distances t along u of the crossings, sines of all crossings) of a
+    divider piece from c + start u to c + end u, or None where it cannot go:
+    a tip too near the line, a crossing breaking a rule of
+    _crossings_along, or crossings closer than VERTEX_CLEARANCE tip sizes
+    to each other or to the piece's ends."""
+    normal = np.array([-u[1], u[0]])
+    if len(tip_x) and np.min(np.abs((tip_x - c) @ normal)) < TIP_CLEARANCE * tip_size:
+        return None
+    found = _crossings_along(polylines, c, u, tip_size, tol)
+    if found is None:
+        return None
+    ts, sines = found
+    gap = VERTEX_CLEARANCE * tip_size
+    if ts and (ts[0] - start < gap or end - ts[-1] < gap):
+        return None
+    if np.any(np.diff(ts) < gap):
+        return None
+    return ts, sines
+
+
 def _crossings_along(polylines, c, u, tip_size, tol):
     """(distances t > tol along u of the crossings with the line c + t u, the
     sines of all crossings), or None when a vertex (other than the centre)
@@ -291,6 +302,8 @@ def _crossings_along(polylines, c, u, tip_size, tol):
 
 
 def _score(sines, tip_x, c, u, tip_size) -> float:
+    """A divider's score in (0, 1]: its flattest crossing against 60 degrees
+    and its nearest tip against twice the clearance, 1 when both suffice."""
     normal = np.array([-u[1], u[0]])
     clearance = np.min(np.abs((tip_x - c) @ normal)) if len(tip_x) else np.inf
     return min(1.0, min(sines) / math.sin(math.radians(60.0)), clearance / (2.0 * TIP_CLEARANCE * tip_size))
@@ -299,22 +312,14 @@ def _score(sines, tip_x, c, u, tip_size) -> float:
 def _outer_piece(domain, polylines, tip_x, fixed, c, u, q, tip_size, radius, tol):
     """(vertices R(p), crossings, R(q), q, crossings, p; score) of the divider
     outside the circle along u (q: its circle node), or None."""
-    normal = np.array([-u[1], u[0]])
-    if len(tip_x) and np.min(np.abs((tip_x - c) @ normal)) < TIP_CLEARANCE * tip_size:
-        return None
     p = _boundary_hit(domain, c, u)
     for a in fixed:
         if min(np.linalg.norm(a - p), np.linalg.norm(a - rotate(p, c))) < ANCHOR_CLEARANCE * tip_size:
             return None
-    found = _crossings_along(polylines, c, u, tip_size, tol)
+    found = _line_vertices(polylines, tip_x, c, u, tip_size, tol, radius, float((p - c) @ u))
     if found is None:
         return None
     ts, sines = found
-    gap = VERTEX_CLEARANCE * tip_size
-    if ts and (ts[0] - radius < gap or float((p - c) @ u) - ts[-1] < gap):
-        return None
-    if np.any(np.diff(ts) < gap):
-        return None
     positive = [q] + [c + t * u for t in ts] + [p]
     points = np.array([rotate(x, c) for x in positive[::-1]] + positive)
     return points, _score(sines, tip_x, c, u, tip_size)
@@ -323,18 +328,10 @@ def _outer_piece(domain, polylines, tip_x, fixed, c, u, q, tip_size, radius, tol
 def _inner_piece(polylines, tip_x, c, u, q, tip_size, radius, tol):
     """(vertices R(q), crossings, centre, crossings, q; score) of the divider
     inside the circle along u (q: its circle node), or None."""
-    normal = np.array([-u[1], u[0]])
-    if len(tip_x) and np.min(np.abs((tip_x - c) @ normal)) < TIP_CLEARANCE * tip_size:
-        return None
-    found = _crossings_along(polylines, c, u, tip_size, tol)
+    found = _line_vertices(polylines, tip_x, c, u, tip_size, tol, 0.0, radius)
     if found is None:
         return None
     ts, sines = found
-    gap = VERTEX_CLEARANCE * tip_size
-    if ts and (ts[0] < gap or radius - ts[-1] < gap):
-        return None
-    if np.any(np.diff(ts) < gap):
-        return None
     positive = [c + t * u for t in ts] + [q]
     points = np.array([rotate(x, c) for x in positive[::-1]] + [c] + positive)
     return points, _score(sines, tip_x, c, u, tip_size)
