@@ -31,10 +31,6 @@ def strain(u):
 #: right-hand sides (with their solutions) ElasticProblem.solve keeps: b is
 #: affine in the load factor, so two span every other
 SPAN = 2
-#: b lies in their span when the least-squares residual is below this times
-#: |b|: the assembly of b0 + lambda b1 rounds each entry to about eps, and a
-#: direct solve's own backward error is no smaller
-SPAN_TOLERANCE = 1e-14
 #: MUMPS CNTL(3): pivots below this times ||K|| count as null (see factorize)
 NULL_PIVOT = 1e-12
 #: below this many DOFs the factorisation orders K by approximate minimum
@@ -281,32 +277,26 @@ class ElasticProblem:
         return self.u
 
     def _from_span(self, b: PETSc.Vec) -> bool:
-        """u = U alpha where b = B alpha to SPAN_TOLERANCE |b| (B, U: the
-        kept right-hand sides and solutions, owned parts; collective)."""
-        B, U = self._span
-        if not B.shape[1]:
+        """u from the kept solutions where b lies in their span (collective)."""
+        u = self._span.find(b.getArray(readonly=True))
+        if u is None:
             return False
-        comm = self.fm.mesh.comm
-        bl = b.getArray(readonly=True)
-        G = comm.allreduce(B.T @ B)
-        g = comm.allreduce(B.T @ bl)
-        alpha = np.linalg.lstsq(G, g, rcond=None)[0]
-        r = bl - B @ alpha
-        if comm.allreduce(float(r @ r)) > SPAN_TOLERANCE**2 * comm.allreduce(float(bl @ bl)):
-            return False
-        self.u.vector.getArray()[:] = U @ alpha
-        self.span_solves += 1
+        self.u.vector.getArray()[:] = u
         return True
 
     def _remember(self, b: PETSc.Vec) -> None:
-        B, U = self._span
-        self._span = (np.column_stack([B[:, -(SPAN - 1):], b.getArray(readonly=True)]),
-                      np.column_stack([U[:, -(SPAN - 1):], self.u.vector.getArray(readonly=True)]))
+        self._span.add(b.getArray(readonly=True), self.u.vector.getArray(readonly=True))
 
     def _forget(self) -> None:
+        from .solution_span import SolutionSpan
+
         n = self.fm.V.dofmap.index_map.size_local * self.fm.V.dofmap.index_map_bs
-        self._span = (np.zeros((n, 0)), np.zeros((n, 0)))
-        self.span_solves = 0
+        self._span = SolutionSpan(n, n, SPAN, self.fm.mesh.comm)
+
+    @property
+    def span_solves(self) -> int:
+        """Solves of this factorisation answered from the kept solutions."""
+        return self._span.hits
 
     def solve_vector(self, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
         """out = K^-1 rhs, vectors in the problem's dof layout, through the

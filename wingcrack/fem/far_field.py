@@ -36,6 +36,7 @@ from petsc4py import PETSc
 from scipy import sparse
 
 from . import schur
+from .solution_span import SolutionSpan
 
 #: the far interior must hold at least this share of the dofs: below it the
 #: reduced matrix is about as large as the whole, while every solve still
@@ -50,11 +51,6 @@ DIAGONAL_TOLERANCE = 1e-10
 #: field's load is b_I = b0 + lambda b1 for every load factor and step, so a
 #: third solve finds it in their span and saves one far solve of two
 SPAN = 3
-#: b_I lies in that span when the least-squares residual is below this
-#: times |b_I|: the reused response is then that of a right-hand side off by
-#: less than the round-off of its assembly and far less than the residual
-#: a direct solve leaves (about 1e-13 |b| on the rosette meshes)
-SPAN_TOLERANCE = 1e-14
 
 
 def _csr(A: PETSc.Mat) -> sparse.csr_matrix:
@@ -210,9 +206,7 @@ class FarField:
             A.destroy()
         self.W = K_GG - self.S
         self.W = 0.5 * (self.W + self.W.T)
-        self._loads = np.zeros((self.nI, 0))         # earlier b_I, by column
-        self._responses = np.zeros((self.nI + self.nG, 0))   # their A_far^-1 [b_I; 0]
-        self.reused_responses = 0
+        self._responses = SolutionSpan(self.nI, self.nI + self.nG, SPAN)   # earlier b_I and A_far^-1 [b_I; 0]
         t3 = time.perf_counter()
         self.seconds = {"select": t1 - t0, "extract": t2 - t1, "factorise": t3 - t2}
         return self
@@ -293,16 +287,16 @@ class FarField:
         solve (then kept)."""
         if not b_I.any():   # the pair forces' right-hand sides (PairOperator.add_forces)
             return np.zeros(self.nI + self.nG)
-        B = self._loads
-        if B.shape[1]:
-            alpha = np.linalg.lstsq(B, b_I, rcond=None)[0]
-            if np.linalg.norm(b_I - B @ alpha) <= SPAN_TOLERANCE * np.linalg.norm(b_I):
-                self.reused_responses += 1
-                return self._responses @ alpha
-        z = self.solve(b_I, np.zeros(self.nG))
-        self._loads = np.column_stack([B[:, -(SPAN - 1):], b_I])
-        self._responses = np.column_stack([self._responses[:, -(SPAN - 1):], z])
+        z = self._responses.find(b_I)
+        if z is None:
+            z = self.solve(b_I, np.zeros(self.nG))
+            self._responses.add(b_I, z)
         return z
+
+    @property
+    def reused_responses(self) -> int:
+        """Load responses answered from the kept ones."""
+        return self._responses.hits
 
     def condense(self, problem, schur_dofs=None) -> Condensed | None:
         """The reduced factorisation of `problem` (of problem.cm) on this far
