@@ -36,28 +36,6 @@ def write_pvd(path, files, times=None) -> Path:
     return path
 
 
-def add_field_data(path, values: dict) -> Path:
-    """Put {name: number} into the field data of the VTU file `path` (meshio
-    5 does not write field data), where ParaView shows it as global data.
-    The step files have them from io/vtu.py in one pass; this rewrite of a
-    meshio file is the route it replaced (tests/test_output_vtu.py)."""
-    path = Path(path)
-    tree = ET.parse(path, parser=ET.XMLParser(target=ET.TreeBuilder(insert_comments=True)))
-    grid = tree.getroot().find("UnstructuredGrid")
-    if grid is None:
-        raise ValueError(f"{path}: not an unstructured-grid VTU file")
-    for old in grid.findall("FieldData"):
-        grid.remove(old)
-    data = ET.Element("FieldData")
-    for name, value in values.items():
-        array = ET.SubElement(data, "DataArray", type="Float64", Name=str(name), NumberOfTuples="1",
-                              format="ascii")
-        array.text = repr(float(value))
-    grid.insert(0, data)
-    tree.write(path, encoding="utf-8", xml_declaration=True)
-    return path
-
-
 def read_pvd(path) -> list[tuple[float, str]]:
     """[(time, file)] of a collection, in file order."""
     root = ET.parse(path).getroot()

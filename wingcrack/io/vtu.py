@@ -3,8 +3,8 @@ pass: the layout meshio 5 writes, with the field data in it (meshio 5
 writes none), so that a step file is not read back and rewritten to add
 its step and load factor.
 
-The text is the one meshio's writer and io.pvd.add_field_data's rewrite
-gave together (attributes, line breaks, the FieldData element at the head
+The text is the one meshio's writer and a rewrite adding the field data
+(tests/test_output_vtu.py keeps that route as the reference) gave together (attributes, line breaks, the FieldData element at the head
 of UnstructuredGrid), byte for byte at the same zlib level; every reader
 of those files (meshio, VTK's vtkXMLUnstructuredGridReader, ParaView)
 reads these. Each array is cut into blocks of BLOCK bytes, each block a
@@ -88,7 +88,7 @@ def vtu_chunks(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
     at a time): `points` (n, 3), `cells` [(kind, (m, k) node indices)] with
     kind a key of VTK_TYPES, `point_data` {name: (n,) or (n, c)},
     `cell_data` {name: [an array per cell block]}, `field_data` {name:
-    number} (written as Float64, in ascii as io.pvd.add_field_data writes
+    number} (written as Float64, in ascii as that rewrite wrote
     them); level as for encode."""
     points = np.asarray(points)
     if points.ndim != 2 or points.shape[1] != 3:
