@@ -4,8 +4,9 @@ writes none), so that a step file is not read back and rewritten to add
 its step and load factor.
 
 The text is the one meshio's writer and a rewrite adding the field data
-(tests/test_output_vtu.py keeps that route as the reference) gave together (attributes, line breaks, the FieldData element at the head
-of UnstructuredGrid), byte for byte at the same zlib level; every reader
+gave together (tests/test_output_vtu.py keeps that route as the
+reference): attributes, line breaks, the FieldData element at the head
+of UnstructuredGrid, byte for byte at the same zlib level; every reader
 of those files (meshio, VTK's vtkXMLUnstructuredGridReader, ParaView)
 reads these. Each array is cut into blocks of BLOCK bytes, each block a
 zlib stream of its own, and a UInt32 header (number of blocks, block
