@@ -80,25 +80,44 @@ def compiled(f: ufl.Form, recipe: tuple, dtype=PETSc.ScalarType):
 def form(f: ufl.Form, recipe: tuple, dtype=PETSc.ScalarType):
     """The DOLFINx Form of the UFL form `f` on its mesh, as
     dolfinx.fem.form(f) makes it, with the compiled form of its recipe."""
-    dtype = np.dtype(dtype)
-    ufcx_form, module, code = compiled(f, recipe, dtype)
-    sd = f.subdomain_data()
-    subdomains, = list(sd.values())
-    domain, = list(sd.keys())
-    mesh = domain.ufl_cargo()
-    V = [a.ufl_function_space()._cpp_object for a in f.arguments()]
-    coefficients = f.coefficients()
-    coeffs = [coefficients[ufcx_form.original_coefficient_position[i]]._cpp_object
-              for i in range(ufcx_form.num_coefficients)]
-    constants = [c._cpp_object for c in f.constants()]
-    subdomains = {_cpp.fem.IntegralType.cell: subdomains.get("cell"),
-                  _cpp.fem.IntegralType.exterior_facet: subdomains.get("exterior_facet"),
-                  _cpp.fem.IntegralType.interior_facet: subdomains.get("interior_facet"),
-                  _cpp.fem.IntegralType.vertex: subdomains.get("vertex")}
-    cls = _FORM_CLASSES.get(dtype)
-    if cls is None:
-        cls = _FORM_CLASSES[dtype] = type("Form", (FormMetaClass, _SCALAR[dtype][1]), {})
-    return cls(ufcx_form, V, coeffs, constants, subdomains, mesh, module.ffi, code)
+    return Prepared(f, recipe, dtype).form()
+
+
+class Prepared:
+    """The UFL form `f` compiled (by its recipe) and read once (spaces,
+    coefficients, constants: walking its expression graph is most of what a
+    DOLFINx Form costs), from which DOLFINx Forms are made on other cell
+    subdomains of the same mesh: the interaction integral's one form
+    restricted to the cells near each tip in turn."""
+
+    def __init__(self, f: ufl.Form, recipe: tuple, dtype=PETSc.ScalarType):
+        dtype = np.dtype(dtype)
+        self.ufcx_form, self._module, self._code = ufcx_form, _, _ = compiled(f, recipe, dtype)
+        sd = f.subdomain_data()
+        self._subdomains, = list(sd.values())
+        domain, = list(sd.keys())
+        self._mesh = domain.ufl_cargo()
+        self._V = [a.ufl_function_space()._cpp_object for a in f.arguments()]
+        coefficients = f.coefficients()
+        self._coeffs = [coefficients[ufcx_form.original_coefficient_position[i]]._cpp_object
+                        for i in range(ufcx_form.num_coefficients)]
+        self._constants = [c._cpp_object for c in f.constants()]
+        cls = _FORM_CLASSES.get(dtype)
+        if cls is None:
+            cls = _FORM_CLASSES[dtype] = type("Form", (FormMetaClass, _SCALAR[dtype][1]), {})
+        self._cls = cls
+
+    def form(self, cell=None):
+        """The DOLFINx Form; cell: meshtags of the cells for the form's
+        dx(i) integrals instead of the subdomain data `f` was written with
+        (the same mesh and dimension)."""
+        sd = self._subdomains
+        subdomains = {_cpp.fem.IntegralType.cell: sd.get("cell") if cell is None else cell,
+                      _cpp.fem.IntegralType.exterior_facet: sd.get("exterior_facet"),
+                      _cpp.fem.IntegralType.interior_facet: sd.get("interior_facet"),
+                      _cpp.fem.IntegralType.vertex: sd.get("vertex")}
+        return self._cls(self.ufcx_form, self._V, self._coeffs, self._constants, subdomains, self._mesh,
+                         self._module.ffi, self._code)
 
 
 def count() -> int:

@@ -79,6 +79,15 @@ class InteractionIntegral:
         tdim = msh.topology.dim
         n_local = msh.topology.index_map(tdim).size_local
         self._cell_x = msh.geometry.x[msh.geometry.dofmap.array.reshape(-1, 6)[:n_local, :3], :2]
+        # q's dofs are the vertices: q is set there (the values interpolate() gives: P1's
+        # interpolation is evaluation at its dof points, the vertices' coordinates)
+        self._q_x = self.Q.tabulate_dof_coordinates()[:, :2]
+        # one form for every tip, made on each tip's cells (_form_near) without reading
+        # its expression again; compiled with an empty cell set, as the tips' will be
+        from dolfinx.mesh import meshtags
+        none = meshtags(msh, tdim, np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32))
+        dx = ufl.Measure("dx", domain=msh, subdomain_data=none, metadata={"quadrature_degree": quadrature_degree})
+        self._prepared = compiled.Prepared(integrand * dx(1), ("interaction_integral", self.kappa))
 
     def sifs(self, tip_xy, ex, ey, r_in: float, r_out: float) -> tuple[float, float]:
         """(K_I, K_II) at one tip; q = 1 for r <= r_in, 0 for r >= r_out."""
@@ -86,11 +95,9 @@ class InteractionIntegral:
         self.tip.value[:] = tip_xy
         self.R.value[:] = np.array([ex, ey], float)
 
-        def weight(p):
-            d = np.hypot(p[0] - tip_xy[0], p[1] - tip_xy[1])
-            return np.clip((r_out - d) / (r_out - r_in), 0.0, 1.0)
-
-        self.q.interpolate(weight)
+        p = self._q_x
+        d = np.hypot(p[:, 0] - tip_xy[0], p[:, 1] - tip_xy[1])
+        self.q.x.array[:] = np.clip((r_out - d) / (r_out - r_in), 0.0, 1.0)
         form = self._form_near(tip_xy, r_out)
         comm = self.problem.fm.mesh.comm
         out = []
@@ -110,6 +117,4 @@ class InteractionIntegral:
         d = np.linalg.norm(self._cell_x - np.asarray(tip_xy)[None, None, :], axis=2)
         cells = np.flatnonzero(d.min(axis=1) < r_out).astype(np.int32)
         tags = meshtags(msh, msh.topology.dim, cells, np.ones(len(cells), dtype=np.int32))
-        dx = ufl.Measure("dx", domain=msh, subdomain_data=tags,
-                         metadata={"quadrature_degree": self.quadrature_degree})
-        return compiled.form(self.integrand * dx(1), ("interaction_integral", self.kappa))
+        return self._prepared.form(cell=tags)
