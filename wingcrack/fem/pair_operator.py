@@ -21,12 +21,25 @@ from mpi4py import MPI
 from petsc4py import PETSc
 from scipy import linalg, sparse
 
+from .solution_span import SolutionSpan
+
 
 BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
 #: MUMPS ICNTL(27), right-hand sides treated together in the solve phase
 #: (the value measured best: README, "Several processes")
 RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
+#: pair-force responses K^-1 B mu kept for mu in their span (fem.solution_span): the
+#: contact forces of a problem linear in its load are proportional to the load
+#: factor (closed faces without gap or slip), so the critical-load search's
+#: second solve of a step takes its response from the first
+SPAN = 2
+#: ... where the least-squares residual is below this times |mu|: the multipliers come
+#: from a dense solve of the pair system, so they carry its round-off, about
+#: cond(S_AA) eps (1.9e-14 between two load factors of a closed crack in a plate,
+#: tests/test_solve_span.py), above the 1e-14 that assembled right-hand sides meet;
+#: a residual within that round-off changes the response no more than mu's own error does
+SPAN_TOLERANCE = 1e-12
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
              "boundary condition holds")
 
@@ -63,6 +76,7 @@ class PairOperator:
             fixed[dofs[dofs < self.n_owned]] = True
         self.B_free = sparse.diags((~fixed).astype(float)) @ B
         self.Z = None
+        self._responses = SolutionSpan(m, self.n_owned, SPAN, comm, SPAN_TOLERANCE)   # earlier mu and K^-1 B mu
         if getattr(problem, "schur_dofs", None) is not None:
             P = problem.schur_dofs
             Sc = problem.schur_complement()
@@ -119,15 +133,26 @@ class PairOperator:
             arr = u.vector.getArray()
             arr += self.Z @ mu
         else:
-            p = self.problem
-            rhs = p.b.duplicate()
-            rhs.getArray()[:] = self.B_free @ mu
-            du = rhs.duplicate()
-            p.solve_vector(rhs, du)   # through the far field's condensation where factorize reused it
-            u.vector.axpy(1.0, du)
-            rhs.destroy()
-            du.destroy()
+            mu = np.asarray(mu, dtype=np.float64)
+            du = self._responses.find(mu)   # mu is the same on every process: the sums only scale
+            if du is None:
+                p = self.problem
+                rhs = p.b.duplicate()
+                rhs.getArray()[:] = self.B_free @ mu
+                dv = rhs.duplicate()
+                p.solve_vector(rhs, dv)   # through the far field's condensation where factorize reused it
+                du = dv.getArray(readonly=True).copy()
+                self._responses.add(mu, du)
+                rhs.destroy()
+                dv.destroy()
+            arr = u.vector.getArray()
+            arr += du
         u.x.scatter_forward()
+
+    @property
+    def span_solves(self) -> int:
+        """Pair-force responses answered from the kept ones."""
+        return self._responses.hits
 
     @staticmethod
     def pair_dofs(fm, rows) -> np.ndarray:
