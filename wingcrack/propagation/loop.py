@@ -32,7 +32,6 @@ import numpy as np
 
 import wingcrack_kernels as K
 from .. import step
-from ..adaptivity import next_sizes
 from ..errors import ComputationError
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from . import checkpoint, growth, interrupt
@@ -188,7 +187,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
     if first < prop.steps and fset.active_tips():   # its gmsh overlaps the imports of preload()
         patch = next_patch(patch, case, fset)
         next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout, patch=patch)
-    frozen.enter_context(_collector_skips_modules())
+        frozen.enter_context(_collector_skips_modules())   # a run of no step imports no DOLFINx
 
     done = fset.copy()   # the fractures after the last finished step
     warnings = []        # about the whole run (from `finishing`)
@@ -261,6 +260,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 shown = disc
                 break
             if case.mesh.adaptive:
+                from ..adaptivity import next_sizes   # DOLFINx's: imported by preload() before the first step
+
                 sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
                 timer.lap("estimate")
             if k + 1 < prop.steps and fset.active_tips():
