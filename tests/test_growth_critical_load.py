@@ -23,6 +23,22 @@ def test_secant_on_a_piecewise_linear_response():
     assert res.solves < 30
 
 
+def test_a_secant_that_lands_on_the_root_ends_there():
+    """The first secant lands on the root (here exactly: K_eq = 2 lam - 1, the
+    bracket [1, 2], all in binary fractions), and the search ends there,
+    instead of halving the bracket's lower end up to it: the next secant
+    from a root with f = 0 goes nowhere, and the bisection that follows
+    took 12 more solves on a Coulomb disc step (1e-6 from a 3.5e-3 bracket)."""
+    calls = []
+
+    def keq(lam):
+        calls.append(lam)
+        return 2.0 * lam - 1.0
+
+    res = critical_load_factor(keq, 2.0, start=1.0, homogeneous=False, limit=100.0)
+    assert res.load_factor == 1.5 and calls == [1.0, 2.0, 1.5] and res.solves == 3
+
+
 def test_limit_and_start():
     res = critical_load_factor(lambda l: 0.01 * l, 2.0, start=0.0, homogeneous=False, limit=100.0)
     assert res.load_factor is None                      # needs 200 > limit

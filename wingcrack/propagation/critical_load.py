@@ -21,6 +21,14 @@ from typing import Callable
 import numpy as np
 
 
+#: a trial whose K_eq exceeds KIc by at most this fraction of it has found the
+#: root: K_eq is computed to ~1e-15 relative, and with a slope of K_eq in the load
+#: factor above 1e-6 KIc per unit factor the root is then within the search's
+#: 1e-6 relative tolerance (the Brazilian disc with friction: the secant hit the
+#: root to 7e-16 and the bracket's other end then took 12 halvings to reach it)
+AT_ROOT = 1e-12
+
+
 @dataclass
 class CriticalLoad:
     load_factor: float | None   # None: no tip reaches KIc below the limit
@@ -82,6 +90,10 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
             lam = 0.5 * (lo + hi)
         f = keq(lam) - KIc
         solves += 1
+        if 0 <= f <= AT_ROOT * KIc:
+            # K_eq(lam) is KIc to round-off: lam is the critical load (the bracket's
+            # far end would only creep up to it, by halves from the other side)
+            return CriticalLoad(lam, solves)
         if f >= 0:
             hi, f_hi = lam, f
             if side == 1:
