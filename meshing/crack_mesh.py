@@ -451,6 +451,19 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
     return _Plan(polylines, tips, anchors, point_anchor, mouth_anchor, junction)
 
 
+def _segments_near(p, pts, tol) -> list[int]:
+    """The segments of the polyline `pts` that may pass within `tol` of p:
+    all those within twice it by a vectorised distance (which may round
+    otherwise than the scalar one _junctions decides with, never by a
+    factor 2), in order, so that _junctions' scalar loop visits only them."""
+    pts = np.asarray(pts, dtype=np.float64)
+    a, ab = pts[:-1], np.diff(pts, axis=0)
+    den = np.einsum("ij,ij->i", ab, ab)
+    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    d = np.linalg.norm(p - a - t[:, None] * ab, axis=1)
+    return np.flatnonzero(~(d > 2.0 * tol)).tolist()   # NaN kept: the scalar loop decides
+
+
 def _junctions(polylines, free_ends, tol):
     """Ends lying on another fracture (or on a non-adjacent segment of their
     own) are T-junctions: insert the point into the host polyline (unless it
@@ -463,7 +476,7 @@ def _junctions(polylines, free_ends, tol):
         best = None
         for g, pts in enumerate(polylines):
             n = len(pts) - 1
-            for s in range(n):
+            for s in _segments_near(p, pts, tol):
                 if g == f and (s in (0, 1) if end == 0 else s in (n - 1, n - 2)):
                     continue  # the end's own segment and its neighbour
                 a, b = pts[s], pts[s + 1]
