@@ -1382,14 +1382,15 @@ class _P2:
     """gmsh's first-order mesh made second order: a mid node on every edge
     of a triangle or of a curve's line element, at 0.5 (a + b), on a circle
     arc (rim) at the circle's point on the edge's bisector (the arc's
-    parametric middle, where gmsh's setOrder puts it), on a one-edge
-    curve of `mids` at the given point. A mid node is a function of its
-    edge's vertex coordinates only (0.5 (a + b) is the same bits either way
-    round), so that a far field meshed alike gets the same bits in every
-    call (_FarCache) and a divider's mids mirror as its vertices do (glue).
-    gmsh's setOrder(2) cost more than the meshing of some surfaces. Mid
-    tags follow gmsh's largest tag, in the order the line elements, then
-    the triangles' edges 01, 12, 20 meet them.
+    middle, which gmsh's setOrder(2) finds by a Newton solve to a relative
+    1e-6 only: tests/test_mid_nodes.py), on a one-edge curve of `mids` at
+    the given point. Built here, not by setOrder(2), for its cost: a
+    sizeable part of gmsh's time on meshes of many fractures. A mid node
+    is a function of its edge's vertex coordinates only (0.5 (a + b) is the
+    same bits either way round), so that a far field meshed alike gets the
+    same bits in every call (_FarCache) and a divider's mids mirror as its
+    vertices do (glue). Mid tags follow gmsh's largest tag, in the order
+    the line elements, then the triangles' edges 01, 12, 20 meet them.
 
     tags (n,), xyz (n, 2): the vertices then the mids; tri (m, 6): the cells."""
 
