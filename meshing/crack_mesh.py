@@ -7,7 +7,8 @@ One call builds the whole mesh of one step (paper sections 3.1-3.3):
 2. around every crack tip a structured rosette of `sectors` straight triangles
    of radius `tip_size` (one spoke along the crack), the rest unstructured,
    graded from ~`tip_size` at the tips to `size` away from the fractures;
-3. second order (mid nodes on the disc rim lie on the circle);
+3. second order: gmsh meshes first order, the mid nodes are added here
+   (_P2; on the disc rim and the patch circle on the circle);
 4. the crack faces split apart (`wingcrack_kernels.split_faces`): each node on
    a crack face gets one copy per side, and the copies are paired for contact;
 5. the mid nodes of the edges at each tip moved to the quarter points.
