@@ -7,7 +7,8 @@ One call builds the whole mesh of one step (paper sections 3.1-3.3):
 2. around every crack tip a structured rosette of `sectors` straight triangles
    of radius `tip_size` (one spoke along the crack), the rest unstructured,
    graded from ~`tip_size` at the tips to `size` away from the fractures;
-3. second order (mid nodes on the disc rim lie on the circle);
+3. second order: gmsh meshes first order, the mid nodes are added here
+   (_P2; on the disc rim and the patch circle on the circle);
 4. the crack faces split apart (`wingcrack_kernels.split_faces`): each node on
    a crack face gets one copy per side, and the copies are paired for contact;
 5. the mid nodes of the edges at each tip moved to the quarter points.
@@ -670,13 +671,12 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
                 sizes, half.center if mirror_sizes else None, _box(domain), scratch)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     gmsh.model.mesh.generate(2)
-    gmsh.model.mesh.setOrder(2)
     points = [anchor_tag[a] for a in plan.point_anchor]
     if half is not None:  # a bc point of the other half: the node of its image, mapped back by _glue
         points = [tag if half.left(plan.anchors[a][2]) else
                   _anchor_at(plan, anchor_tag, point_symmetry.rotate(plan.anchors[a][2], half.center))
                   for tag, a in zip(points, plan.point_anchor)]
-    return _extract(boundary_curves, crack_curves, tip_point, points, divider)
+    return _extract(boundary_curves, crack_curves, tip_point, points, divider, rim=_rim(domain, boundary_curves))
 
 
 
@@ -775,8 +775,9 @@ class _FarCache:
         cls._last = None
 
     @staticmethod
-    def merge(cached, far_surfaces, tri, far, tags, xyz):
-        """gmsh's cells (tri (m, 6) node tags; none of them far) with the cached
+    def merge(cached, far_surfaces, tri, far, tags, xyz, p2):
+        """gmsh's cells (tri (m, 6) node tags; none of them far; p2 the _P2
+        that numbered their mid nodes) with the cached
         far cells in front: a cached node on the far field's boundary is
         gmsh's node of the same coordinates (same bits), a cached interior
         node a new tag. Raises _CacheMiss when a boundary node has no match."""
@@ -790,9 +791,8 @@ class _FarCache:
             on.add(abs(tag))
         for s in far_surfaces:  # the fractures outside, embedded in the far surface
             on.update(abs(t) for dim, t in gmsh.model.mesh.getEmbedded(2, s) if dim == 1)
-        on_tags = np.unique(np.concatenate([np.zeros(0, np.int64)] + [
-            np.asarray(gmsh.model.mesh.getNodes(1, curve, includeBoundary=True, returnParametricCoord=False)[0],
-                       dtype=np.int64) for curve in sorted(on)]))
+        on_tags = np.unique(np.concatenate([np.zeros(0, np.int64)] + [p2.curve(curve).ravel()
+                                                                      for curve in sorted(on)]))
         by_tag = np.argsort(tags)
         known, first = np.unique(_bits(xyz[by_tag[np.searchsorted(tags[by_tag], on_tags)]]), return_index=True)
         known_tag = on_tags[first]
@@ -1002,7 +1002,6 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
         gmsh.model.setVisibility([(2, s) for s in far_surfaces], 0, recursive=False)
         gmsh.option.setNumber("Mesh.MeshOnlyVisible", 1)
     gmsh.model.mesh.generate(2)
-    gmsh.model.mesh.setOrder(2)
 
     points = [anchor_tag[a] for a in plan.point_anchor]
     used_arcs = list(range(n))
@@ -1021,7 +1020,7 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     info: dict = {}
     raw = _extract(boundary_curves, crack_curves, tip_point, points, far_divider + inner_divider + mirrored_arcs,
                    far_surfaces=far_surfaces, mids={arcs[j]: circle.mids[j] for j in used_arcs},
-                   far_cells=cached, info=None if cached is not None else info)
+                   far_cells=cached, info=None if cached is not None else info, rim=_rim(domain, boundary_curves))
     if cached is None:
         _FarCache.put(key, raw.x[raw.cells[raw.far]], info["far_interior"])
     return raw
@@ -1385,9 +1384,86 @@ def _threshold(distance_field, h0, size, d0, grading=GRADING):
 # -- 3. read the mesh back ---------------------------------------------------------
 
 
+def _rim(domain, boundary_curves):
+    """(center, radius, curves): the outer boundary's circle arcs (a disc's
+    rim), whose mid nodes lie on the circle; None for straight boundaries."""
+    if domain.shape != "disc":
+        return None
+    return np.asarray(domain.center, dtype=np.float64), float(domain.radius), [c for c, _ in boundary_curves]
+
+
+class _P2:
+    """gmsh's first-order mesh made second order: a mid node on every edge
+    of a triangle or of a curve's line element, at 0.5 (a + b), on a circle
+    arc (rim) at the circle's point on the edge's bisector (the arc's
+    middle, which gmsh's setOrder(2) finds by a Newton solve to a relative
+    1e-6 only: tests/test_mid_nodes.py), on a one-edge curve of `mids` at
+    the given point. Built here, not by setOrder(2), for its cost: a
+    sizeable part of gmsh's time on meshes of many fractures. A mid node
+    is a function of its edge's vertex coordinates only (0.5 (a + b) is the
+    same bits either way round), so that a far field meshed alike gets the
+    same bits in every call (_FarCache) and a divider's mids mirror as its
+    vertices do (glue). Mid tags follow gmsh's largest tag, in the order
+    the line elements, then the triangles' edges 01, 12, 20 meet them.
+
+    tags (n,), xyz (n, 2): the vertices then the mids; tri (m, 6): the cells."""
+
+    def __init__(self, tri3, lines, tags, xyz, rim=None, mids=None):
+        mesh = _gmsh_mesh()
+        top = int(tags.max()) + 1 if len(tags) else 1
+        pos = np.zeros(top, dtype=np.int64)
+        pos[tags] = np.arange(len(tags))
+        pairs = np.concatenate([lines, tri3[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)])
+        lo, hi = pairs.min(axis=1), pairs.max(axis=1)
+        key = lo * top + hi
+        uniq, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+        seen = np.argsort(first, kind="stable")
+        rank = np.empty(len(uniq), dtype=np.int64)
+        rank[seen] = np.arange(len(uniq))
+        a, b = xyz[pos[lo[first]]], xyz[pos[hi[first]]]
+        mid = 0.5 * (a + b)
+        self._top, self._key, self._mid_tag = top, uniq, top + rank
+        if rim is not None:
+            center, radius, curves = rim
+            e = self._edge(np.concatenate([np.zeros((0, 2), np.int64)] + [self._lines(mesh, c) for c in curves]))
+            d = mid[e] - center
+            mid[e] = center + radius * d / np.linalg.norm(d, axis=1)[:, None]
+        for curve, at in (mids or {}).items():
+            mid[self._edge(self._lines(mesh, curve))] = at
+        self.on_line = np.zeros(len(uniq), dtype=bool)
+        self.on_line[inverse[: len(lines)]] = True
+        self.tags = np.concatenate([tags, top + np.arange(len(uniq), dtype=np.int64)])
+        self.xyz = np.concatenate([xyz, mid[seen]])
+        m = len(tri3)
+        self.tri = np.concatenate([tri3, self._mid_tag[inverse[len(lines):]].reshape(m, 3)], axis=1)
+
+    @staticmethod
+    def _lines(mesh, curve) -> np.ndarray:
+        return np.asarray(mesh.getElementsByType(1, abs(curve))[1], dtype=np.int64).reshape(-1, 2)
+
+    def _edge(self, pairs) -> np.ndarray:
+        return np.searchsorted(self._key, pairs.min(axis=1) * self._top + pairs.max(axis=1))
+
+    def curve(self, curve) -> np.ndarray:
+        """(k, 3) [a, b, mid] tags of the curve's line elements, in gmsh's order."""
+        pairs = self._lines(_gmsh_mesh(), curve)
+        return np.concatenate([pairs, self._mid_tag[self._edge(pairs)][:, None]], axis=1)
+
+    def interior_mids(self) -> np.ndarray:
+        """The mid tags of the edges on no curve (inside a surface)."""
+        return self._mid_tag[~self.on_line]
+
+
+def _gmsh_mesh():
+    import gmsh
+
+    return gmsh.model.mesh
+
+
 def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), far_surfaces=None,
-             mids=None, far_cells=None, info=None) -> RawMesh:
-    """The mesh gmsh made. tip_point: (centre, corner) point tags of each tip,
+             mids=None, far_cells=None, info=None, rim=None) -> RawMesh:
+    """The mesh gmsh made (first order; _P2 adds the mid nodes). tip_point:
+    (centre, corner) point tags of each tip,
     corner None for a tip not meshed here (its nodes are -1); point_tags: of
     each bc point, None likewise; divider: curves whose nodes are returned as
     divider_nodes; far_surfaces: the surfaces whose cells are RawMesh.far
@@ -1395,36 +1471,32 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), f
     numbered in the order the cells meet them, not in gmsh's tag order);
     mids: {curve: (2,)} the mid node of one-edge curves placed there;
     far_cells: a far field meshed before (_FarCache), its surfaces not
-    meshed now; info: a dict, given "far_interior" (as _FarCache keeps it)."""
-    import gmsh
-
-    mesh = gmsh.model.mesh
-    element_tags, tri = mesh.getElementsByType(9)  # 6-node triangles
-    tri = np.asarray(tri, dtype=np.int64).reshape(-1, 6)
+    meshed now; info: a dict, given "far_interior" (as _FarCache keeps it);
+    rim: (center, radius, curves) curves on that circle (_rim)."""
+    mesh = _gmsh_mesh()
+    element_tags, tri = mesh.getElementsByType(2)  # 3-node triangles
+    tri = np.asarray(tri, dtype=np.int64).reshape(-1, 3)
+    tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
+    tags = np.asarray(tags, dtype=np.int64)
+    xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[:, :2]
+    lines = np.asarray(mesh.getElementsByType(1)[1], dtype=np.int64).reshape(-1, 2)
+    p2 = _P2(tri, lines, tags, xyz, rim, mids)
+    tri, tags, xyz = p2.tri, p2.tags, p2.xyz
     if far_surfaces is None:
         used, cells = np.unique(tri, return_inverse=True)  # drop unused nodes, compact 0-based
         cells = cells.reshape(-1, 6).astype(np.int64)
-        tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
         order = np.argsort(tags)
-        x = np.asarray(coords).reshape(-1, 3)[order][np.searchsorted(np.asarray(tags)[order], used), :2].copy()
+        x = xyz[order][np.searchsorted(tags[order], used)].copy()
 
         def index(node_tags) -> np.ndarray:
             return np.searchsorted(used, np.asarray(node_tags, dtype=np.int64))
         far = None
     else:
-        tags, coords, _ = mesh.getNodes(returnParametricCoord=False)
-        tags = np.asarray(tags, dtype=np.int64)
-        xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[:, :2]
-        far_tags = np.concatenate([np.asarray(mesh.getElementsByType(9, s)[0], dtype=np.int64)
+        far_tags = np.concatenate([np.asarray(mesh.getElementsByType(2, s)[0], dtype=np.int64)
                                    for s in far_surfaces])
         far = np.isin(np.asarray(element_tags, dtype=np.int64), far_tags)
-        if mids:
-            mid_tags = np.array([mesh.getElements(1, curve)[2][0][2] for curve in mids], dtype=np.int64)
-            by_tag = np.argsort(tags)
-            xyz[by_tag[np.searchsorted(tags[by_tag], mid_tags)]] = np.array(list(mids.values()), dtype=np.float64)
-        mids = None
         if far_cells is not None:
-            tri, far, tags, xyz = _FarCache.merge(far_cells, far_surfaces, tri, far, tags, xyz)
+            tri, far, tags, xyz = _FarCache.merge(far_cells, far_surfaces, tri, far, tags, xyz, p2)
         by_tag = np.argsort(tags)
         tri = _canonical_cells(tri, xyz[by_tag][np.searchsorted(tags[by_tag], tri[:, :3])])
         # far cells first (stable), nodes numbered as the cells meet them: the far field's
@@ -1442,15 +1514,11 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), f
         cells = index(tri)
         if info is not None:
             interior = np.concatenate([np.asarray(mesh.getNodes(2, s, includeBoundary=False)[0], dtype=np.int64)
-                                       for s in far_surfaces])
+                                       for s in far_surfaces] + [p2.interior_mids()])
             info["far_interior"] = np.isin(tri[far], interior)
 
     def curve_edges(curve) -> np.ndarray:
-        _, _, nodes = mesh.getElements(1, abs(curve))
-        return index(nodes[0]).reshape(-1, 3)
-
-    for curve, at in (mids or {}).items():
-        x[curve_edges(curve)[0, 2]] = at
+        return index(p2.curve(curve))
 
     # Counter-clockwise cells: swap v1 <-> v2 and m01 <-> m20 where the area is negative.
     v = x[cells[:, :3]]
