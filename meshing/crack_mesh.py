@@ -563,22 +563,11 @@ def _gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_siz
             gmsh.finalize()
 
 
-# gmsh's relative precision when it integrates 1 / h along a curve to place
-# the curve's nodes (its default 1e-9 made the 1D pass a third of gmsh's time
-# on the paper's 4.4 meshes: 0.064 s of 0.19 s a step, the size field
-# evaluated at that precision along every fracture and boundary curve).
-# 1e-6 of a curve's node count moves its nodes by far less than the size
-# field's own resolution (the grid samples it at half the smallest size):
-# 1D 2.3 -> 0.8 s over the 35 meshes of multi_fractures_shear, the cell
-# counts the same to 0.06 %.
-LC_INTEGRATION_PRECISION = 1e-6
-
-
 def _session_options() -> None:
+    """The options every session of this module starts with."""
     import gmsh
 
     gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.option.setNumber("Mesh.LcIntegrationPrecision", LC_INTEGRATION_PRECISION)
 
 
 _SCRATCH_PREFIX = "wingcrack-sizes-"

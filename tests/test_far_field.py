@@ -274,7 +274,8 @@ def test_a_body_nothing_holds_fails_alike(meshes, monkeypatch):
     the rigid motions comes out negative (INFOG(12); INFOG(28), the null
     pivots, stays 0 in this mode): on one mesh of this plate both the whole
     K and the reduced matrix had one, on another (gmsh's curves integrated
-    to 1e-6 instead of 1e-9) only the reduced one. Which sign round-off
+    to 1e-6 instead of its default 1e-9, tried for speed) only the reduced
+    one. Which sign round-off
     gives is no property of this code; what is: a factorisation MUMPS finds
     not positive definite raises the same ComputationError on both routes,
     and the reduced one raises it (no fallback to the whole K). So the
