@@ -10,7 +10,8 @@ pair row in effect (the contact phase then grows with pairs x DOFs; see the
 README's "Several processes").
 Either way it is built once per mesh; every active-set
 iteration, load factor or slip value is then a small dense solve, and the
-pair forces' response is one more back-substitution. Rows of B at Dirichlet
+pair forces' response is one more back-substitution (none where the
+forces lie in the span of the last two: add_forces). Rows of B at Dirichlet
 dofs are zeroed for the force side (a prescribed dof takes no force), but
 kept for measuring jumps.
 """
