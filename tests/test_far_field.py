@@ -139,6 +139,45 @@ def test_moved_patch_reuses_the_far_factor(meshes, epoch):
     p.destroy()
 
 
+def test_assembled_where_the_reduced_matrix_reads_only(meshes, epoch):
+    """ElasticProblem(far_interior=...) assembles K on the cells with a node
+    outside the far interior only: its K_RR is the whole K's, bitwise (the
+    same cells summed in the same order), and so is the condensed solve.
+    With another material it cannot reuse the far field: K is then
+    assembled whole and solved plainly (twice as stiff: half of u)."""
+    case, cm, cm2 = meshes["open"]
+    far, _ = epoch
+    interior = far.interior_of(cm2)
+    assert interior.sum() == len(far.I_nodes)
+    full = problem(case, cm2)
+    m = case.material
+    part = ElasticProblem(to_dolfinx(cm2), m.E, m.nu, m.plane, case_loads(case, cm2, case.fractures), cm=cm2,
+                          far_interior=interior)
+    assert part.partial and part.num_cells_assembled < 0.5 * full.num_cells_assembled
+    found, blk = full.fm.block_dofs(np.flatnonzero(~interior))
+    R = np.sort(np.r_[2 * blk, 2 * blk + 1])
+    Kf, Kp = _csr(full)[R][:, R], _csr(part)[R][:, R]
+    Kf.sort_indices()
+    Kp.sort_indices()
+    assert np.array_equal(Kf.indptr, Kp.indptr) and np.array_equal(Kf.indices, Kp.indices)
+    assert np.array_equal(Kf.data, Kp.data)
+    for p in (full, part):
+        p.factorize(far=far)
+        assert p.reused_far
+    assert np.array_equal(full.solve(1.0).x.array, part.solve(1.0).x.array)
+    full.destroy()
+    part.destroy()
+
+    stiff = ElasticProblem(to_dolfinx(cm2), 2 * m.E, m.nu, m.plane, case_loads(case, cm2, case.fractures), cm=cm2,
+                           far_interior=interior)
+    stiff.factorize(far=far)
+    assert not stiff.reused_far and not stiff.partial
+    u = stiff.solve(1.0).x.array.copy()
+    u_ref, _, _, _ = plain(case, cm2)
+    assert np.abs(2 * u - u_ref).max() <= TOL * np.abs(u_ref).max()
+    stiff.destroy()
+
+
 def test_load_responses_from_the_span_of_earlier_ones(epoch):
     """A_far^-1 [b_I; 0] of a combination of kept right-hand sides is the
     same combination of their responses (linearity), up to round-off; a

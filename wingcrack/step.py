@@ -345,12 +345,15 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if pieces:
         raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
                                f"no displacement condition holds ({describe(pieces)})")
-    problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads, cm=cm)
+    if far is not None and not far.matches(cm):
+        far = None   # the patch moved on (the caller destroys the old one)
+    timer.lap("patch")
+    # with the far field kept, K is assembled where the reduced factorisation reads it only
+    problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads, cm=cm,
+                             far_interior=None if far is None else far.interior_of(cm))
     rows = constraint_rows(cm, fractures)
     timer.lap("assemble")
     started = False
-    if far is not None and not far.matches(cm):
-        far = None   # the patch moved on (the caller destroys the old one)
     if far is None and cm.far is not None:
         far = FarField.start(problem, cm)
         started = far is not None

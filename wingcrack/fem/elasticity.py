@@ -28,6 +28,13 @@ def strain(u):
     return ufl.sym(ufl.grad(u))
 
 
+def _cell_tags(msh, cells: np.ndarray):
+    """Meshtags marking `cells` (sorted local indices of owned cells) 1."""
+    from dolfinx.mesh import meshtags
+
+    return meshtags(msh, msh.topology.dim, cells, np.ones(len(cells), dtype=np.int32))
+
+
 #: right-hand sides (with their solutions) ElasticProblem.solve keeps: b is
 #: affine in the load factor, so two span every other
 SPAN = 2
@@ -46,7 +53,12 @@ _OPTIONS_PREFIX = "wingcrack_elastic_"
 class ElasticProblem:
     """Assemble once per mesh, factorise once, solve for any load factor."""
 
-    def __init__(self, fm, E: float, nu: float, plane: str, loads: Loads, cm=None):
+    def __init__(self, fm, E: float, nu: float, plane: str, loads: Loads, cm=None, far_interior=None):
+        """far_interior: (len(cm.x),) bool, the CrackMesh nodes of the far
+        interior of a far field this mesh keeps (FarField.interior_of(cm)):
+        the condensed factorisation reads no row of K on them, so K is
+        assembled only on the cells with another node (self.partial); the
+        whole K is assembled when a factorisation needs it after all."""
         self.fm = fm
         self.cm = cm   # the CrackMesh of fm: needed only to reuse a far field (factorize)
         msh, V = fm.mesh, fm.V
@@ -61,7 +73,14 @@ class ElasticProblem:
         u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
         ds = ufl.Measure("ds", domain=msh, subdomain_data=fm.facet_tags)
         dx = ufl.Measure("dx", domain=msh)
-        self.a = compiled.form(ufl.inner(self.stress(u, total=False), strain(v)) * dx, ("elasticity.stiffness",))
+        # dx(1) on every cell here, on fewer after the far field (_assemble_part): one kernel for both
+        tdim = msh.topology.dim
+        num_cells = msh.topology.index_map(tdim).size_local
+        every = _cell_tags(msh, np.arange(num_cells, dtype=np.int32))
+        dx1 = ufl.Measure("dx", domain=msh, subdomain_data=every)(1)
+        self._stiffness = compiled.Prepared(ufl.inner(self.stress(u, total=False), strain(v)) * dx1,
+                                            ("elasticity.stiffness",))
+        self.a = self._stiffness.form()
 
         L = ufl.inner(self.body, v) * dx - ufl.inner(self.sigma0, strain(v)) * dx
         n = ufl.FacetNormal(msh)
@@ -78,9 +97,8 @@ class ElasticProblem:
         self._point_forces = self._locate_point_forces(loads.point_forces)
         self._face_dofs, self._face_values = self._locate_face_forces(loads.face_forces)
 
-        self.A = fpetsc.assemble_matrix(self.a, bcs=self.bcs)
-        self.A.assemble()
-        self.A.setOption(PETSc.Mat.Option.SPD, True)
+        self.partial = far_interior is not None
+        self.A = self._assemble_part(far_interior) if self.partial else self._assemble_whole()
         self.solver = PETSc.KSP().create(msh.comm)
         self.solver.setOperators(self.A)
         self.solver.setType("preonly")
@@ -97,6 +115,45 @@ class ElasticProblem:
         self.b = fpetsc.create_vector(self.L)
         self.load_factor_solved = 1.0
         self.u = fem.Function(V, name="displacement")
+
+    # -- stiffness ---------------------------------------------------------
+    def _assemble_whole(self) -> PETSc.Mat:
+        A = fpetsc.assemble_matrix(self.a, bcs=self.bcs)
+        A.assemble()
+        A.setOption(PETSc.Mat.Option.SPD, True)
+        self.num_cells_assembled = self.fm.mesh.topology.index_map(self.fm.mesh.topology.dim).size_local
+        return A
+
+    def _assemble_part(self, interior) -> PETSc.Mat:
+        """K's entries from the cells with a node outside `interior` (CrackMesh
+        nodes): its rows and columns off the interior are K's; those on it
+        are partial (zero where no such cell reaches)."""
+        fm = self.fm
+        found, blk = fm.block_dofs(np.flatnonzero(np.asarray(interior, dtype=bool)))
+        inside = np.zeros(fm.V.dofmap.index_map.size_local + fm.V.dofmap.index_map.num_ghosts, dtype=bool)
+        inside[blk[found]] = True
+        msh = fm.mesh
+        tdim = msh.topology.dim
+        num_cells = msh.topology.index_map(tdim).size_local
+        dofs = fm.V.dofmap.list.array.reshape(-1, fm.V.dofmap.cell_dofs(0).size)[:num_cells]
+        cells = np.flatnonzero(~inside[dofs].all(axis=1)).astype(np.int32)
+        a = self._stiffness.form(cell=_cell_tags(msh, cells))
+        A = fpetsc.create_matrix(a)
+        # the Dirichlet rows' unit diagonal goes in on the interior too, where no assembled cell made room
+        A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        fpetsc.assemble_matrix(A, a, bcs=self.bcs)
+        A.assemble()
+        self.num_cells_assembled = len(cells)
+        return A
+
+    def assemble_whole(self) -> None:
+        """K assembled on every cell (after a partial assembly, see __init__)."""
+        if not self.partial:
+            return
+        self.A.destroy()
+        self.A = self._assemble_whole()
+        self.solver.setOperators(self.A)
+        self.partial = False
 
     # -- physics -----------------------------------------------------------
     def stress(self, u, total: bool = True):
@@ -201,6 +258,7 @@ class ElasticProblem:
                     self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)
                 self._factored = True
                 return
+        self.assemble_whole()
         cholesky(self.solver, schur_dofs if with_schur else None, self.fm.num_dofs)
         if with_schur:
             self.schur_dofs = np.asarray(schur_dofs, dtype=np.int64)

@@ -42,11 +42,6 @@ from .solution_span import SolutionSpan
 #: reduced matrix is about as large as the whole, while every solve still
 #: goes through the far factor twice
 MIN_SHARE = 0.5
-#: the relative difference of K's diagonal on I between the epoch and a later
-#: mesh beyond which the far field is not the epoch's (another material or
-#: other Dirichlet dofs): the same cells summed in another order differ by a
-#: few eps only
-DIAGONAL_TOLERANCE = 1e-10
 #: A_far^-1 [b_I; 0] of this many earlier right-hand sides is kept: the far
 #: field's load is b_I = b0 + lambda b1 for every load factor and step, so a
 #: third solve finds it in their span and saves one far solve of two
@@ -107,6 +102,12 @@ def _fixed(problem) -> np.ndarray:
     for bc in problem.bcs:
         fixed[np.asarray(bc.dof_indices()[0])] = True
     return fixed
+
+
+def _material(problem) -> tuple:
+    """What K's entries on the same cells depend on besides their nodes: the
+    Lame constants (the run's material, plane stress or strain)."""
+    return float(problem.lam.value), float(problem.mu.value)
 
 
 def _avoided(cm) -> np.ndarray:
@@ -187,9 +188,7 @@ class FarField:
         K_GG = _csr(block).toarray()
         block.destroy()
         self._fixed = _fixed(problem)[np.r_[I, G]]
-        diagonal = problem.A.getDiagonal()
-        self._diagonal = diagonal.getArray()[I].copy()
-        diagonal.destroy()
+        self._material = _material(problem)
         t2 = time.perf_counter()
 
         from .elasticity import cholesky
@@ -264,6 +263,17 @@ class FarField:
         self._matched = (cm, self.node_map(cm))
         return self._matched[1] is not None
 
+    def interior_of(self, cm) -> np.ndarray | None:
+        """(len(cm.x),) bool: the nodes of cm in this far field's interior I,
+        or None when cm's far field is not the epoch's (see node_map): what
+        ElasticProblem(far_interior=...) need not assemble K's rows of."""
+        found = self._node_map_of(cm)
+        if found is None:
+            return None
+        inside = np.zeros(len(cm.x), dtype=bool)
+        inside[found[0]] = True
+        return inside
+
     def _node_map_of(self, cm):
         """node_map(cm), the one matches(cm) found when it was asked of this very mesh."""
         last = getattr(self, "_matched", None)
@@ -312,12 +322,8 @@ class FarField:
         I, G = _dofs(fm, found[0]), _dofs(fm, found[1])
         n = fm.num_dofs
         fixed = _fixed(problem)
-        if np.any(fixed[np.r_[I, G]] != self._fixed):
-            return None
-        diagonal = problem.A.getDiagonal()
-        d = diagonal.getArray()[I]
-        diagonal.destroy()
-        if np.any(np.abs(d - self._diagonal) > DIAGONAL_TOLERANCE * np.abs(self._diagonal)):
+        # the same cells, bitwise (node_map), of the same material with the same Dirichlet dofs: the same K_II, K_IG
+        if np.any(fixed[np.r_[I, G]] != self._fixed) or _material(problem) != self._material:
             return None
         keep = np.ones(n, dtype=bool)
         keep[I] = False
