@@ -276,6 +276,37 @@ def test_matches_only_the_same_far_field(meshes, epoch):
     assert np.array_equal(perm[found[0]], far.I_nodes) and np.array_equal(perm[found[1]], far.G_nodes)
 
 
+def test_a_match_by_key_is_verified_on_the_places(meshes, monkeypatch):
+    """Cells are matched by a hash of their nodes' places and the match then
+    checked on the coordinates: with a hash blind to the last 8 bits of y,
+    a far node moved one ulp in y keeps every key, and the check still
+    refuses the mesh."""
+    import wingcrack.fem.far_field as far_field
+
+    case, cm, _ = meshes["open"]
+    hashes = far_field._node_hashes
+
+    def blind(x):
+        bits = np.ascontiguousarray(x, dtype=np.float64).view(np.uint64).reshape(-1, 2).copy()
+        bits[:, 1] &= ~np.uint64(0xFF)
+        return hashes(bits.view(np.float64))
+
+    monkeypatch.setattr(far_field, "_node_hashes", blind)
+    p = problem(case, cm)
+    far = FarField.start(p, cm)
+    p.destroy()
+    assert far.matches(cm)
+    x = cm.x.copy()
+    low = x.view(np.uint64)[far.I_nodes, 1] & np.uint64(0xFF)
+    node = far.I_nodes[np.flatnonzero((low > 0) & (low < 0xFF))[0]]   # one ulp: no carry out of the low 8 bits
+    x[node, 1] = np.nextafter(x[node, 1], np.inf)
+    moved_y = dataclasses.replace(cm, x=x)
+    keys, _ = far_field.cell_keys(x, cm.cells[cm.far])
+    assert np.isin(far._keys, keys).all()   # the keys alone would match
+    assert not far.matches(moved_y)
+    far.destroy()
+
+
 def test_other_material_takes_the_full_path(meshes, epoch):
     """Same cells, another E: K_II differs, the far factor is not reused."""
     case, cm, cm2 = meshes["open"]

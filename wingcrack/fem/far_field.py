@@ -116,17 +116,39 @@ def _avoided(cm) -> np.ndarray:
     return np.unique(np.concatenate([np.asarray(cm.pairs, np.int64).ravel()] + [np.asarray(t, np.int64) for t in tips]))
 
 
+#: odd 64-bit constants of the node hash (splitmix64's)
+_MIX = (np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB))
+
+
+def _mix(z: np.ndarray) -> np.ndarray:
+    """splitmix64's finaliser (a bijection of uint64 that spreads every bit)."""
+    z = (z ^ (z >> np.uint64(30))) * _MIX[1]
+    z = (z ^ (z >> np.uint64(27))) * _MIX[2]
+    return z ^ (z >> np.uint64(31))
+
+
+def _node_hashes(x: np.ndarray) -> np.ndarray:
+    """(n,) uint64: a hash of each node's coordinate bits (equal places,
+    equal hashes; x and y mixed apart, so that mirrored places, whose bits
+    differ in the signs only, do not collide)."""
+    bits = np.ascontiguousarray(x, dtype=np.float64).view(np.uint64).reshape(-1, 2)
+    with np.errstate(over="ignore"):
+        return _mix(_mix(bits[:, 0] + _MIX[0]) + bits[:, 1])
+
+
 def cell_keys(x: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(keys (m,), nodes (m, 6)): each cell's nodes ordered by their
-    coordinates (x, then y) and the bytes of those 12 coordinates, a key
-    equal for two cells exactly when their nodes are bitwise at the same
-    places (a cell's six nodes never share a place; the two copies of a
-    crack node do, but lie in different cells)."""
+    """(keys (m,) uint64, nodes (m, 6)): each cell's key, the sum of its
+    nodes' hashes (_node_hashes: the same for the same six places in any
+    order), and its nodes ordered by their hashes. Equal places give equal
+    keys and the nodes in the same order; equal keys need not be equal
+    places (a hash collision): a match by key is verified on the
+    coordinates (FarField.node_map). A cell's six nodes never share a place;
+    the two copies of a crack node do, but lie in different cells."""
     cells = np.asarray(cells, dtype=np.int64)
-    X = x[cells]
-    order = np.lexsort((X[..., 1], X[..., 0]), axis=-1)
-    nodes = np.take_along_axis(cells, order, axis=1)
-    keys = np.ascontiguousarray(x[nodes].reshape(len(cells), 12)).view(np.dtype((np.void, 96))).ravel()
+    h = _node_hashes(x)[cells]
+    with np.errstate(over="ignore"):
+        keys = h.sum(axis=1, dtype=np.uint64)
+    nodes = np.take_along_axis(cells, np.argsort(h, axis=1), axis=1)
     return keys, nodes
 
 
@@ -166,10 +188,12 @@ class FarField:
         self.interior = interior
         # in the order of their dofs, so that A_far is K's submatrix on sorted dofs
         self.I_nodes, self.G_nodes = (_by_dof(fm, np.flatnonzero(m)) for m in (interior, gamma))
-        keys, nodes = cell_keys(np.asarray(cm.x, dtype=np.float64), cells[touching])
+        x = np.ascontiguousarray(cm.x, dtype=np.float64)
+        keys, nodes = cell_keys(x, cells[touching])
         self._key_order = np.argsort(keys)
         self._keys = keys[self._key_order]
         self._cell_nodes = nodes[self._key_order]
+        self._x_bits = x.view(np.int64).reshape(-1, 2).copy()   # what a match is verified on
         self.num_nodes = n
         I, G = _dofs(fm, self.I_nodes), _dofs(fm, self.G_nodes)
         self.nI, self.nG = len(I), len(G)
@@ -229,7 +253,7 @@ class FarField:
         matched cells must be one to one, and no crack pair or tip node of
         cm may fall in I."""
         cells = np.asarray(cm.cells, dtype=np.int64)
-        x = np.asarray(cm.x, dtype=np.float64)
+        x = np.ascontiguousarray(cm.x, dtype=np.float64)
         candidates = np.flatnonzero(cm.far) if cm.far is not None else np.arange(len(cells))
         if len(candidates) < len(self._keys):
             return None
@@ -237,7 +261,7 @@ class FarField:
         pos = np.minimum(np.searchsorted(self._keys, keys), len(self._keys) - 1)
         hit = self._keys[pos] == keys
         epoch = pos[hit]
-        if len(epoch) != len(self._keys) or len(np.unique(epoch)) != len(epoch):
+        if len(epoch) != len(self._keys) or np.bincount(epoch, minlength=len(self._keys)).max() > 1:
             return None
         mine, theirs = nodes[hit].ravel(), self._cell_nodes[epoch].ravel()
         to_epoch = np.full(len(x), -1, dtype=np.int64)
@@ -246,6 +270,9 @@ class FarField:
             return None
         mapped = np.flatnonzero(to_epoch >= 0)
         if np.bincount(to_epoch[mapped], minlength=self.num_nodes).max() > 1:
+            return None
+        # the keys' match verified: each node bitwise at its epoch node's place
+        if not np.array_equal(x.view(np.int64).reshape(-1, 2)[mapped], self._x_bits[to_epoch[mapped]]):
             return None
         in_I = np.zeros(len(x), dtype=bool)
         in_I[mapped] = self.interior[to_epoch[mapped]]
