@@ -53,13 +53,27 @@ def _csr(A: PETSc.Mat) -> sparse.csr_matrix:
     return sparse.csr_matrix((values, indices, indptr), shape=A.getSize())
 
 
-def _aij(M: sparse.csr_matrix) -> PETSc.Mat:
-    M = M.tocsr()
+def _dense_block(W: np.ndarray, g: np.ndarray, n: int) -> sparse.csr_matrix:
+    """The (n, n) CSR matrix with the dense W on rows and columns g (distinct
+    positions), its indices sorted."""
+    order = np.argsort(g)
+    rows = g[order]
+    k = len(g)
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    indptr[rows + 1] = k
+    block = sparse.csr_matrix((W[np.ix_(order, order)].ravel(), np.tile(rows, k), np.cumsum(indptr)), shape=(n, n))
+    block.has_canonical_format = True
+    return block
+
+
+def _aij_of(M: sparse.csr_matrix) -> PETSc.Mat:
+    """The SPD PETSc matrix on M's arrays (made canonical CSR: sorted, no
+    duplicates, a check where they are already; the Mat keeps the arrays,
+    so no copy row by row)."""
     M.sum_duplicates()
-    M.sort_indices()
     it = PETSc.IntType
-    A = PETSc.Mat().createAIJ(size=M.shape, csr=(M.indptr.astype(it), M.indices.astype(it), M.data),
-                              comm=PETSc.COMM_SELF)
+    A = PETSc.Mat().createAIJWithArrays(size=M.shape, csr=(M.indptr.astype(it), M.indices.astype(it), M.data),
+                                        comm=PETSc.COMM_SELF)
     A.assemble()
     A.setOption(PETSc.Mat.Option.SPD, True)
     return A
@@ -370,9 +384,8 @@ class FarField:
         sub.destroy()
         M = _csr(K_RR)
         K_RR.destroy()
-        nG = len(g)
-        M = M - sparse.csr_matrix((self.W.ravel(), (np.repeat(g, nG), np.tile(g, nG))), shape=M.shape)
-        A_R = _aij(M)
+        M = M - _dense_block(self.W, g, M.shape[0])
+        A_R = _aij_of(M)
         t2 = time.perf_counter()
 
         seconds["reduce"] = t2 - t1
