@@ -43,21 +43,20 @@ class FEMesh:
         block dof in V (k,), -1 where not found). A node is on every rank
         that owns or ghosts it."""
         nodes = np.asarray(nodes, dtype=np.int64).ravel()
-        found = np.zeros(len(nodes), dtype=bool)
+        table = self._block_of_node
         blk = np.full(len(nodes), -1, dtype=self.node_dof.dtype)
-        if len(self.original) and len(nodes):
-            order = self._order
-            pos = np.minimum(np.searchsorted(self.original, nodes, sorter=order), len(order) - 1)
-            local = order[pos]
-            found = self.original[local] == nodes
-            blk[found] = self.node_dof[local[found]]
-        return found, blk
+        inside = (nodes >= 0) & (nodes < len(table))
+        blk[inside] = table[nodes[inside]]
+        return blk >= 0, blk
 
     @cached_property
-    def _order(self) -> np.ndarray:
-        """The permutation that sorts `original`, for block_dofs' binary
-        search; sorted once per mesh, not per lookup."""
-        return np.argsort(self.original)
+    def _block_of_node(self) -> np.ndarray:
+        """(max CrackMesh index on this rank + 1,) the block dof of each
+        CrackMesh node, -1 where the node is not on this rank: made once per
+        mesh, for block_dofs' lookups."""
+        table = np.full(int(self.original.max()) + 1 if len(self.original) else 0, -1, dtype=self.node_dof.dtype)
+        table[self.original] = self.node_dof
+        return table
 
 
 def _coordinate_domain() -> ufl.Mesh:
