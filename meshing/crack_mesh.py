@@ -771,10 +771,11 @@ class _FarCache:
     @classmethod
     def put(cls, key, cells, interior) -> None:
         cls._last = (key, (np.array(cells, dtype=np.float64), np.array(interior, dtype=bool)))
+        cls._nodes = None
 
     @classmethod
     def clear(cls) -> None:
-        cls._last = None
+        cls._last = cls._nodes = None
 
     @staticmethod
     def merge(cached, far_surfaces, tri, far, tags, xyz, p2):
@@ -788,6 +789,7 @@ class _FarCache:
         cells, interior = cached
         if far.any():
             raise _CacheMiss("the far surfaces were meshed")
+        inner_first, inner_fresh, boundary, boundary_of = _FarCache._nodes_of(cells, interior)
         on = set()
         for _, tag in gmsh.model.getBoundary([(2, s) for s in far_surfaces], combined=False, oriented=False):
             on.add(abs(tag))
@@ -800,19 +802,47 @@ class _FarCache:
         known_tag = on_tags[first]
         flat, inner = cells.reshape(-1, 2), interior.ravel()
         out = np.empty(len(flat), dtype=np.int64)
-        want = _bits(flat[~inner])
-        j = np.minimum(np.searchsorted(known, want), max(len(known) - 1, 0))
-        if len(want) and (not len(known) or np.any(known[j] != want)):
+        j = np.minimum(np.searchsorted(known, boundary), max(len(known) - 1, 0))
+        if len(boundary) and (not len(known) or np.any(known[j] != boundary)):
             raise _CacheMiss("a node of the far field's boundary is not in the mesh")
-        out[~inner] = known_tag[j]
+        out[~inner] = known_tag[j][boundary_of]
         top = int(tags.max()) + 1 if len(tags) else 1
-        _, first, fresh = np.unique(_bits(flat[inner]), return_index=True, return_inverse=True)
-        out[inner] = top + fresh.ravel()
+        out[inner] = top + inner_fresh
         tri = np.concatenate([out.reshape(-1, 6), tri])
         far = np.concatenate([np.ones(len(cells), dtype=bool), far])
-        tags = np.concatenate([tags, np.arange(top, top + len(first), dtype=np.int64)])
-        xyz = np.concatenate([xyz, flat[inner][first]])
+        tags = np.concatenate([tags, np.arange(top, top + len(inner_first), dtype=np.int64)])
+        xyz = np.concatenate([xyz, flat[inner][inner_first]])
         return tri, far, tags, xyz
+
+    _nodes = None   # (cells, interior, their _nodes_of): the last cached far field's
+
+    @classmethod
+    def _nodes_of(cls, cells, interior):
+        """The node structure of a cached far field (cells (m, 6, 2) places,
+        interior (m, 6) its nodes off the boundary), the same in every call
+        it is glued in, so worked out once: (first, fresh) of its interior
+        nodes (np.unique of their places' bits: the first occurrence of each,
+        the index of each occurrence's node), (boundary, of) of its boundary
+        nodes (their places' bits sorted unique, and the index in those of
+        each occurrence)."""
+        last = cls._nodes
+        if last is not None and last[0] is cells and last[1] is interior:
+            return last[2]
+        flat, inner = cells.reshape(-1, 2), interior.ravel()
+        _, first, fresh = np.unique(_bits(flat[inner]), return_index=True, return_inverse=True)
+        boundary, of = np.unique(_bits(flat[~inner]), return_inverse=True)
+        out = (first, fresh.ravel(), boundary, of.ravel())
+        cls._nodes = (cells, interior, out)
+        return out
+
+
+def _table(keys: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """A dense lookup table of distinct non-negative int keys: table[k] is
+    the value of key k, -1 where k is no key."""
+    keys = np.asarray(keys, dtype=np.int64)
+    table = np.full(int(keys.max()) + 1 if len(keys) else 0, -1, dtype=np.int64)
+    table[keys] = values
+    return table
 
 
 def _bits(a) -> np.ndarray:
@@ -1499,8 +1529,8 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), f
         far = np.isin(np.asarray(element_tags, dtype=np.int64), far_tags)
         if far_cells is not None:
             tri, far, tags, xyz = _FarCache.merge(far_cells, far_surfaces, tri, far, tags, xyz, p2)
-        by_tag = np.argsort(tags)
-        tri = _canonical_cells(tri, xyz[by_tag][np.searchsorted(tags[by_tag], tri[:, :3])])
+        at = _table(tags, np.arange(len(tags)))   # position in xyz by tag
+        tri = _canonical_cells(tri, xyz[at[tri[:, :3]]])
         # far cells first (stable), nodes numbered as the cells meet them: the far field's
         # numbering is then the same in every call that meshes it alike, whatever gmsh's tags
         order = np.argsort(~far, kind="stable")
@@ -1509,10 +1539,11 @@ def _extract(boundary_curves, crack_curves, tip_point, point_tags, divider=(), f
         uniq, first = np.unique(flat, return_index=True)
         rank = np.empty(len(uniq), dtype=np.int64)
         rank[np.argsort(first)] = np.arange(len(uniq))
-        x = xyz[by_tag][np.searchsorted(tags[by_tag], flat[np.sort(first)])].copy()
+        x = xyz[at[flat[np.sort(first)]]].copy()
+        rank_of = _table(uniq, rank)
 
         def index(node_tags) -> np.ndarray:
-            return rank[np.searchsorted(uniq, np.asarray(node_tags, dtype=np.int64))]
+            return rank_of[np.asarray(node_tags, dtype=np.int64)]
         cells = index(tri)
         if info is not None:
             interior = np.concatenate([np.asarray(mesh.getNodes(2, s, includeBoundary=False)[0], dtype=np.int64)
