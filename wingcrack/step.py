@@ -345,6 +345,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if pieces:
         raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
                                f"no displacement condition holds ({describe(pieces)})")
+    timer.lap("assemble")
     if far is not None and not far.matches(cm):
         far = None   # the patch moved on (the caller destroys the old one)
     timer.lap("patch")
