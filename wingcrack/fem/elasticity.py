@@ -22,17 +22,11 @@ from petsc4py import PETSc
 from ..loads import Loads
 from . import compiled
 from ..material import lame
+from .mesh import cell_tags
 
 
 def strain(u):
     return ufl.sym(ufl.grad(u))
-
-
-def _cell_tags(msh, cells: np.ndarray):
-    """Meshtags marking `cells` (sorted local indices of owned cells) 1."""
-    from dolfinx.mesh import meshtags
-
-    return meshtags(msh, msh.topology.dim, cells, np.ones(len(cells), dtype=np.int32))
 
 
 #: right-hand sides (with their solutions) ElasticProblem.solve keeps: b is
@@ -76,7 +70,7 @@ class ElasticProblem:
         # dx(1) on every cell here, on fewer after the far field (_assemble_part): one kernel for both
         tdim = msh.topology.dim
         num_cells = msh.topology.index_map(tdim).size_local
-        every = _cell_tags(msh, np.arange(num_cells, dtype=np.int32))
+        every = cell_tags(msh, np.arange(num_cells, dtype=np.int32))
         dx1 = ufl.Measure("dx", domain=msh, subdomain_data=every)(1)
         self._stiffness = compiled.Prepared(ufl.inner(self.stress(u, total=False), strain(v)) * dx1,
                                             ("elasticity.stiffness",))
@@ -137,7 +131,7 @@ class ElasticProblem:
         num_cells = msh.topology.index_map(tdim).size_local
         dofs = fm.V.dofmap.list.array.reshape(-1, fm.V.dofmap.cell_dofs(0).size)[:num_cells]
         cells = np.flatnonzero(~inside[dofs].all(axis=1)).astype(np.int32)
-        a = self._stiffness.form(cell=_cell_tags(msh, cells))
+        a = self._stiffness.form(cell=cell_tags(msh, cells))
         A = fpetsc.create_matrix(a)
         # the Dirichlet rows' unit diagonal goes in on the interior too, where no assembled cell made room
         A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)

@@ -84,8 +84,8 @@ class InteractionIntegral:
         self._q_x = self.Q.tabulate_dof_coordinates()[:, :2]
         # one form for every tip, made on each tip's cells (_form_near) without reading
         # its expression again; compiled with an empty cell set, as the tips' will be
-        from dolfinx.mesh import meshtags
-        none = meshtags(msh, tdim, np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32))
+        from .mesh import cell_tags
+        none = cell_tags(msh, np.zeros(0, dtype=np.int32))
         dx = ufl.Measure("dx", domain=msh, subdomain_data=none, metadata={"quadrature_degree": quadrature_degree})
         self._prepared = compiled.Prepared(integrand * dx(1), ("interaction_integral", self.kappa))
 
@@ -111,10 +111,9 @@ class InteractionIntegral:
         """The form on the cells with a vertex closer than r_out to the tip:
         elsewhere q (P1, vertex dofs) and its gradient vanish, so the
         integral over these cells alone is the integral over the mesh."""
-        from dolfinx.mesh import meshtags
+        from .mesh import cell_tags
 
         msh = self.problem.fm.mesh
         d = np.linalg.norm(self._cell_x - np.asarray(tip_xy)[None, None, :], axis=2)
         cells = np.flatnonzero(d.min(axis=1) < r_out).astype(np.int32)
-        tags = meshtags(msh, msh.topology.dim, cells, np.ones(len(cells), dtype=np.int32))
-        return self._prepared.form(cell=tags)
+        return self._prepared.form(cell=cell_tags(msh, cells))

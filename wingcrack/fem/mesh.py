@@ -59,6 +59,13 @@ class FEMesh:
         return table
 
 
+def cell_tags(msh, cells: np.ndarray):
+    """Meshtags marking `cells` (sorted local indices of owned cells) 1: the
+    cells of a form's dx(1) integral (fem.compiled.Prepared.form)."""
+    return dmesh.meshtags(msh, msh.topology.dim, np.asarray(cells, dtype=np.int32),
+                          np.ones(len(cells), dtype=np.int32))
+
+
 def _coordinate_domain() -> ufl.Mesh:
     # FFCx gives a coordinate element without a variant the equispaced one,
     # in place, at its first form on the mesh, which changes the
