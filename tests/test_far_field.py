@@ -424,3 +424,92 @@ def test_start_declines(meshes):
     assert FarField.start(p, small) is None
     p.factorize()
     p.destroy()
+
+
+def _counting(monkeypatch, far) -> list:
+    """Calls of far.solve (each a solve through the far factor) recorded."""
+    calls, solve = [], far.solve
+    monkeypatch.setattr(far, "solve", lambda *a: calls.append(1) or solve(*a))
+    return calls
+
+
+def test_far_interior_expanded_when_the_whole_field_is_read(meshes, epoch, monkeypatch):
+    """A condensed solve leaves u on the far interior I to its first reader
+    (ElasticProblem.expand): readers of dofs outside I (u_at) get u without
+    the far solve that computes it, readers of the whole field (p.u) the
+    plain solution, once."""
+    case, cm, cm2 = meshes["open"]
+    far, _ = epoch
+    p = problem(case, cm2)
+    p.factorize(far=far)
+    c = p._condensed
+    calls = _counting(monkeypatch, far)
+    raw = p.solve(0.7, expand=False).x.array
+    u_ref = plain(case, cm2, 0.7)[0]
+    scale = np.abs(u_ref).max()
+    assert np.abs(raw[c.R] - u_ref[c.R]).max() <= TOL * scale
+    # not a void test: u on I is not the solution yet (the Function's zeros)
+    assert np.abs(raw[c.I] - u_ref[c.I]).max() > 0.1 * scale
+    solved = len(calls)
+    p.u_at(c.R[::2] // 2)
+    assert len(calls) == solved and p._deferred
+    u = p.u.x.array
+    assert len(calls) == solved + 1
+    assert np.abs(u - u_ref).max() <= TOL * scale
+    # u on R is what the solve gave: expanding writes I only
+    assert np.array_equal(u[c.R], raw[c.R])
+    p.u_at(c.I // 2)
+    p.u
+    assert len(calls) == solved + 1
+    p.destroy()
+
+
+def test_a_far_interior_read_by_a_sif_domain_is_expanded_first(meshes, epoch):
+    """The interaction integral over a domain reaching into the far interior
+    reads u there: it is expanded first (ElasticProblem.u_on_cells); the
+    SIFs are those of the whole solution."""
+    from wingcrack.fem.interaction_integral import InteractionIntegral
+
+    case, cm, cm2 = meshes["open"]
+    far, _ = epoch
+    m = case.material
+    tip = cm2.tips[0]
+    r_out = R_PATCH + 2.0   # beyond the patch: far cells with I nodes
+    values = []
+    for whole_first in (True, False):
+        p = problem(case, cm2)
+        p.factorize(far=far)
+        p.solve(1.0, expand=False)
+        if whole_first:
+            p.u
+        M = InteractionIntegral(p, m.E, m.nu, m.plane, case.stress.tensor())
+        values.append(M.sifs(tip.x, tip.ex, tip.ey, 1.000001 * tip.h, r_out))
+        assert not p._deferred
+        p.destroy()
+    assert values[0] == values[1]
+
+
+def test_a_response_added_on_R_is_expanded_again(meshes, monkeypatch):
+    """A pair-force response added to an expanded u (PairOperator.add_forces,
+    solved on R only) marks u's far interior for expansion again: p.u is
+    then K^-1 (b + B mu) of the whole K."""
+    case, cm, cm2 = meshes["frictionless"]
+    p0 = problem(case, cm)
+    far = FarField.start(p0, cm)
+    p0.destroy()
+    rows = constraint_rows(cm2, case.fractures)
+    mu = np.random.default_rng(3).uniform(-1e3, 1e3, len(rows))
+    out = {}
+    for reuse in (True, False):
+        p = problem(case, cm2)
+        p.factorize(schur_dofs=PairOperator.pair_dofs(p.fm, rows), far=far if reuse else None)
+        assert p.reused_far == reuse
+        op = PairOperator(p, rows)
+        p.solve(1.0, expand=False)
+        p.u   # expanded before the response
+        op.add_forces(p.u_function, mu)
+        out[reuse] = p.u.x.array.copy()
+        p.destroy()
+    far.destroy()
+    scale = np.abs(out[False]).max()
+    assert np.abs(out[True] - out[False]).max() <= TOL * scale

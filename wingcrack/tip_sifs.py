@@ -92,7 +92,8 @@ def correlation_sifs(problem, cm, E: float, nu: float, plane: str):
     if not tips:
         return np.zeros(0), np.zeros(0)
     nodes = np.array([[t.upper[0], t.upper[1], t.lower[0], t.lower[1]] for t in tips], dtype=np.int64)
-    u = nodal_displacements(problem.fm, problem.u, nodes.ravel()).reshape(len(tips), 4, 2)
+    u = problem.u_at(problem.fm.block_dofs(nodes.ravel())[1])   # tip face nodes: outside a far interior
+    u = nodal_displacements(problem.fm, u, nodes.ravel()).reshape(len(tips), 4, 2)
     ex = np.array([t.ex for t in tips], float)
     ey = np.array([t.ey for t in tips], float)
     h = np.array([t.h for t in tips], float)

@@ -45,16 +45,17 @@ class ContactProblem:
         the normal rows the active set starts in contact (default: those
         penetrating without contact forces)."""
         p = self.problem
-        p.solve(load_factor)
+        p.solve(load_factor, expand=False)   # u on a far interior when it is read (ElasticProblem.expand)
         if self.op is None:
             return None
         rows = self.rows
-        jump0 = self.op.jumps(p.u.vector.getArray())
+        u = p.u_at(self.op.blocks)   # the pair dofs, outside a far interior (u there may be deferred)
+        jump0 = self.op.jumps(u.vector.getArray())
         slip = rows.slip * p.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
         target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
         res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active,
                              start=self.result)   # the last solve's states: the search's next trial starts there
-        self.op.add_forces(p.u, res.mu)
+        self.op.add_forces(u, res.mu)
         self.result = res
         return res
 

@@ -13,6 +13,8 @@ on the rest is (fem.far_field).
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 import ufl
 from dolfinx import fem
@@ -108,7 +110,79 @@ class ElasticProblem:
         self.far_seconds = {}
         self.b = fpetsc.create_vector(self.L)
         self.load_factor_solved = 1.0
-        self.u = fem.Function(V, name="displacement")
+        self._u = fem.Function(V, name="displacement")
+        self._b_I = None        # b of the last solve on the far interior (a condensed solve's: see expand)
+        self._deferred = False  # whether u's values there are still to be computed
+
+    # -- the displacement ----------------------------------------------------
+    @property
+    def u(self) -> fem.Function:
+        """The displacement of the last solve, everywhere (expanded on the
+        far interior first where a condensed solve left it, see expand)."""
+        self.expand()
+        return self._u
+
+    @property
+    def u_function(self) -> fem.Function:
+        """The displacement Function as it is, not expanded: for forms that
+        take it as a coefficient before its values are read (their reader
+        asks u_at for the dofs it integrates over)."""
+        return self._u
+
+    def u_at(self, blocks) -> fem.Function:
+        """The displacement Function, valid at least on the block dofs
+        `blocks` (local): expanded first only where one lies in the far
+        interior. For readers of a few dofs inside a step (the pair jumps,
+        the tips' displacements and SIF domains), which lie outside it."""
+        if self._deferred:
+            blocks = np.asarray(blocks, dtype=np.int64).ravel()
+            if self._far_blocks[blocks[blocks >= 0]].any():   # (-1: a node not on this process)
+                self.expand()
+        return self._u
+
+    def u_on_cells(self, cells) -> fem.Function:
+        """u_at the dofs of the local `cells` (a form integrated over them)."""
+        if self._deferred:
+            dofmap = self.fm.V.dofmap
+            self.u_at(dofmap.list.array.reshape(-1, dofmap.cell_dofs(0).size)[np.asarray(cells, dtype=np.int64)])
+        return self._u
+
+    def defer(self) -> None:
+        """u changed on R by a response whose load on the far interior is 0
+        (the pair forces', PairOperator.add_forces): its values there are
+        to be computed again (expand). Nothing without a condensation."""
+        if self._condensed is not None and self._b_I is not None:
+            self._deferred = True
+
+    def expand(self) -> None:
+        """Compute u on the far interior, which a solve through the far
+        field's condensation leaves for later: the far field's solve that
+        does it (as costly as the reduced one) is needed only by readers of
+        the whole field, the files above all, which the propagation loop
+        writes while the next mesh is made. Every solve of the step gets its
+        own u on R only; u's load on I (b_I of the last solve, the pair
+        forces' being 0 there) and u on Gamma then give u on I."""
+        if not self._deferred:
+            return
+        self._deferred = False
+        u = self._u.vector.getArray()
+        self._condensed.expand(u, self._b_I)
+        self._u.x.scatter_forward()
+        self._require_finite(u)
+
+    @cached_property
+    def _far_blocks(self) -> np.ndarray:
+        """(local block dofs,) bool: in the far interior of the condensation."""
+        imap = self.fm.V.dofmap.index_map
+        mask = np.zeros(imap.size_local + imap.num_ghosts, dtype=bool)
+        mask[self._condensed.I // 2] = True
+        return mask
+
+    @staticmethod
+    def _require_finite(values) -> None:
+        if not np.all(np.isfinite(values)):
+            from ..errors import ComputationError
+            raise ComputationError("the displacement has NaN/inf: the body is not held (singular system)")
 
     # -- stiffness ---------------------------------------------------------
     def _assemble_whole(self) -> PETSc.Mat:
@@ -162,6 +236,7 @@ class ElasticProblem:
             u = self.u
             self._energy_form = compiled.form(0.5 * ufl.inner(self.stress(u, total=False), strain(u)) * ufl.dx,
                                               ("elasticity.energy",))
+        self.expand()
         return self.fm.mesh.comm.allreduce(fem.assemble_scalar(self._energy_form))
 
     def nodal_displacements(self, nodes) -> np.ndarray:
@@ -233,6 +308,9 @@ class ElasticProblem:
         self.far_seconds); otherwise K whole."""
         from . import schur
 
+        self.expand()   # u of the factorisation before stays whole
+        self._b_I = None
+        self.__dict__.pop("_far_blocks", None)
         self.schur_dofs = None
         self._schur = None
         self.reused_far = False
@@ -267,8 +345,9 @@ class ElasticProblem:
     def destroy(self) -> None:
         """Free the PETSc objects (matrix, MUMPS factors, vectors) now rather
         than whenever Python's collector gets to them."""
-        for obj in (self.solver, self.A, self.b, self.u.vector):
+        for obj in (self.solver, self.A, self.b, self._u.vector):
             obj.destroy()
+        self._deferred, self._b_I = False, None
         if self._condensed is not None:
             self._condensed.destroy()
             self._condensed = None
@@ -309,35 +388,43 @@ class ElasticProblem:
         fpetsc.set_bc(b, self.bcs)
         return b
 
-    def solve(self, load_factor: float = 1.0) -> fem.Function:
+    def solve(self, load_factor: float = 1.0, expand: bool = True) -> fem.Function:
         """The displacement at `load_factor`. The right-hand side is affine
         in the load factor (b0 + lambda b1), so once it lies in the span of
         the last SPAN right-hand sides of this factorisation (the second
         solve of a problem without fixed loads, the third of any) u is
-        their solutions' combination, with no solve."""
+        their solutions' combination, with no solve. expand=False (through a
+        far field's condensation): u on the far interior is left to the
+        first reader of the whole field (see expand; the Function returned
+        is valid off it)."""
         if not self._factored:
             self.factorize()
         b = self.assemble_rhs(load_factor)
         self.load_factor_solved = float(load_factor)   # what u belongs to (the face pressure of the SIFs)
+        self._deferred, self._b_I = False, None
         if not self._from_span(b):
-            self.solve_vector(b, self.u.vector)
+            self.solve_vector(b, self._u.vector, expand=False)
             self._remember(b)
-        self.u.x.scatter_forward()
-        if not np.all(np.isfinite(self.u.x.array)):
-            from ..errors import ComputationError
-            raise ComputationError("the displacement has NaN/inf: the body is not held (singular system)")
-        return self.u
+        self._u.x.scatter_forward()
+        c = self._condensed
+        if c is None:
+            self._require_finite(self._u.x.array)
+        else:   # u on the far interior when it is read (expand)
+            self._b_I = b.getArray(readonly=True)[c.I].copy()
+            self._deferred = True
+            self._require_finite(self._u.x.array[c.R])
+        return self.u if expand else self._u
 
     def _from_span(self, b: PETSc.Vec) -> bool:
         """u from the kept solutions where b lies in their span (collective)."""
         u = self._span.find(b.getArray(readonly=True))
         if u is None:
             return False
-        self.u.vector.getArray()[:] = u
+        self._u.vector.getArray()[:] = u
         return True
 
     def _remember(self, b: PETSc.Vec) -> None:
-        self._span.add(b.getArray(readonly=True), self.u.vector.getArray(readonly=True))
+        self._span.add(b.getArray(readonly=True), self._u.vector.getArray(readonly=True))
 
     def _forget(self) -> None:
         from .solution_span import SolutionSpan
@@ -350,14 +437,16 @@ class ElasticProblem:
         """Solves of this factorisation answered from the kept solutions."""
         return self._span.hits
 
-    def solve_vector(self, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
+    def solve_vector(self, rhs: PETSc.Vec, out: PETSc.Vec, expand: bool = True) -> None:
         """out = K^-1 rhs, vectors in the problem's dof layout, through the
         factorisation factorize made (the whole K or the far field's
-        condensation); no ghost update."""
+        condensation); no ghost update. expand=False: through the
+        condensation, out on R only (its far interior entries untouched),
+        for a response added to a u whose expansion is deferred (expand)."""
         if not self._factored:
             self.factorize()
         if self._condensed is not None:
-            self._condensed.solve(rhs, out)
+            self._condensed.solve(rhs, out, expand)
             return
         self.solver.solve(rhs, out)
         reason = self.solver.getConvergedReason()

@@ -20,7 +20,11 @@ Schur complement of K on R:
 z depends on b_I alone, which is b0 + lambda b1 in the far field for every
 load factor lambda and every mesh of the epoch: it is kept and recombined
 (FarField.load_response), so a solve costs one far solve (the last) besides
-the reduced one, as a plain solve costs one solve of the whole K.
+the reduced one, as a plain solve costs one solve of the whole K. That last
+one, u_I from u_G, waits for a reader of u on I (ElasticProblem.expand):
+the critical-load search's trials and the pair forces' responses read u
+on R only, so a step's solves cost the reduced ones and one far solve for
+its files.
 
 With the contact pair dofs P in R, (K^-1)_PP = (A_R^-1)_PP: MUMPS returns the
 Schur complement of A_R on P, as the full factorisation does of K.
@@ -410,23 +414,45 @@ class Condensed:
         self.I, self.R, self.g = I, R, g
         self._rhs, self._x = A.createVecs()
         self.y = None   # A_far^-1's Gamma part in the last solve: u_G (a check)
+        self._last = None   # (b_I, A_far^-1 [b_I; 0]) of the last solve
 
-    def solve(self, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
-        """out = K^-1 rhs (vectors in the problem's dof layout)."""
+    def solve(self, rhs: PETSc.Vec, out: PETSc.Vec, expand: bool = True) -> None:
+        """out = K^-1 rhs (vectors in the problem's dof layout); with
+        expand=False on R only (out's I entries are left as they were: see
+        expand)."""
         far, g = self.far, self.g
         b = rhs.getArray(readonly=True)
         b_I = b[self.I]
         z = far.load_response(b_I)
+        self._last = (b_I, z)
         z_G = z[far.nI:]
         r = self._rhs.getArray()
         r[:] = b[self.R]
         r[g] += far.S @ z_G
         _solve(self.ksp, self._rhs, self._x)
-        u_R = self._x.getArray()
-        # [x; y] = A_far^-1 [b_I; S' (u_G - z_G)] = z + A_far^-1 [0; S' (u_G - z_G)]
-        xy = z + far.solve(np.zeros(far.nI), far.S @ (u_R[g] - z_G))
         u = out.getArray()
-        u[self.R] = u_R
+        u[self.R] = self._x.getArray()
+        if expand:
+            self._expand(u, z)
+
+    def expand(self, u: np.ndarray, b_I: np.ndarray) -> None:
+        """u[I] of the solution of K u = b from its part on R, u[R], and
+        b's on I, b_I: the far field's interior is determined by its load and
+        u on Gamma,
+
+            [x; y] = A_far^-1 [b_I; S' (u_G - z_G)],   u_I = x   (z = A_far^-1 [b_I; 0]),
+
+        linear in (b_I, u_G): so u[R] may be any combination of solutions
+        (earlier ones, the pair forces' responses, whose load on I is 0)
+        whose loads on I add up to b_I."""
+        last = self._last
+        same = last is not None and np.array_equal(last[0], b_I)   # the last solve's load: its z as it was
+        self._expand(u, last[1] if same else self.far.load_response(b_I))
+
+    def _expand(self, u: np.ndarray, z: np.ndarray) -> None:
+        far = self.far
+        # [x; y] = z + A_far^-1 [0; S' (u_G - z_G)]
+        xy = z + far.solve(np.zeros(far.nI), far.S @ (u[self.R[self.g]] - z[far.nI:]))
         u[self.I] = xy[:far.nI]
         self.y = xy[far.nI:]
 

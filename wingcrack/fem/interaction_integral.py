@@ -62,7 +62,7 @@ class InteractionIntegral:
         du_a = ufl.dot(ufl.grad(u_a), R.T)
         eps_a = (sig_a - lam * ufl.tr(sig_a) / (2 * lam + 2 * mu) * ufl.Identity(2)) / (2 * mu)
 
-        u = problem.u
+        u = problem.u_function   # its values read on each tip's cells (sifs: ElasticProblem.u_at)
         grad_u = ufl.grad(u) + self.eps0                      # total, global frame
         du = ufl.dot(ufl.dot(R, grad_u), R.T)                  # local frame
         sig = ufl.dot(ufl.dot(R, problem.stress(u, total=True)), R.T)
@@ -98,7 +98,8 @@ class InteractionIntegral:
         p = self._q_x
         d = np.hypot(p[:, 0] - tip_xy[0], p[:, 1] - tip_xy[1])
         self.q.x.array[:] = np.clip((r_out - d) / (r_out - r_in), 0.0, 1.0)
-        form = self._form_near(tip_xy, r_out)
+        form, cells = self._form_near(tip_xy, r_out)
+        self.problem.u_on_cells(cells)   # u where the form reads it (a far interior's expanded if it reaches there)
         comm = self.problem.fm.mesh.comm
         out = []
         for mode in ([1.0, 0.0], [0.0, 1.0]):
@@ -108,7 +109,7 @@ class InteractionIntegral:
         return out[0], out[1]
 
     def _form_near(self, tip_xy, r_out):
-        """The form on the cells with a vertex closer than r_out to the tip:
+        """(form, cells): the form on the cells with a vertex closer than r_out to the tip:
         elsewhere q (P1, vertex dofs) and its gradient vanish, so the
         integral over these cells alone is the integral over the mesh."""
         from .mesh import cell_tags
@@ -116,4 +117,4 @@ class InteractionIntegral:
         msh = self.problem.fm.mesh
         d = np.linalg.norm(self._cell_x - np.asarray(tip_xy)[None, None, :], axis=2)
         cells = np.flatnonzero(d.min(axis=1) < r_out).astype(np.int32)
-        return self._prepared.form(cell=cell_tags(msh, cells))
+        return self._prepared.form(cell=cell_tags(msh, cells)), cells

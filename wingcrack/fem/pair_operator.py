@@ -76,6 +76,8 @@ class PairOperator:
             dofs = np.asarray(dofs)
             fixed[dofs[dofs < self.n_owned]] = True
         self.B_free = sparse.diags((~fixed).astype(float)) @ B
+        self.blocks = np.unique(np.r_[fm.block_dofs(rows.plus)[1], fm.block_dofs(rows.minus)[1]])
+        self.blocks = self.blocks[self.blocks >= 0]   # the local block dofs of the pair nodes
         self.Z = None
         self._responses = SolutionSpan(m, self.n_owned, SPAN, comm, SPAN_TOLERANCE)   # earlier mu and K^-1 B mu
         if getattr(problem, "schur_dofs", None) is not None:
@@ -141,13 +143,16 @@ class PairOperator:
                 rhs = p.b.duplicate()
                 rhs.getArray()[:] = self.B_free @ mu
                 dv = rhs.duplicate()
-                p.solve_vector(rhs, dv)   # through the far field's condensation where factorize reused it
+                # through the far field's condensation where factorize reused it: on R only, u's far
+                # interior part is computed from u on R when it is read (p.defer, ElasticProblem.expand)
+                p.solve_vector(rhs, dv, expand=False)
                 du = dv.getArray(readonly=True).copy()
                 self._responses.add(mu, du)
                 rhs.destroy()
                 dv.destroy()
             arr = u.vector.getArray()
             arr += du
+            self.problem.defer()
         u.x.scatter_forward()
 
     @property
