@@ -34,6 +34,13 @@ def load_gmsh() -> None:
         signal.signal(signal.SIGINT, old)
 
 
+def load_worker_modules() -> None:
+    """What the meshing worker imports at its start (overlapping its
+    caller's start-up): gmsh and the compiled kernels that finish a mesh."""
+    import gmsh  # noqa: F401
+    import wingcrack_kernels  # noqa: F401
+
+
 def start_worker() -> None:
     """Start the meshing worker now, without waiting (it imports gmsh while
     the caller goes on); meshing with a time limit uses it."""

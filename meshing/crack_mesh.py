@@ -210,7 +210,10 @@ def start_crack_mesh(
 
 class PendingMesh:
     """A crack mesh begun by start_crack_mesh: result() collects it (once),
-    cancel() abandons it (the meshing worker is killed if it is still at it)."""
+    cancel() abandons it (the meshing worker is killed if it is still at it).
+    The worker makes the whole CrackMesh (_meshed: gmsh, then the split
+    faces, quarter points and checks), so that the caller, which works on
+    the previous step meanwhile, receives it finished."""
 
     def __init__(self, domain, plan, frame, half, job, timeout, seconds_planning):
         self._domain, self._plan, self._frame, self._half, self._job = domain, plan, frame, half, job
@@ -223,85 +226,111 @@ class PendingMesh:
         args = (self._domain, self._plan, size, tip_size, sectors, scaled, self._half, mirror_sizes, algorithm)
         if circle is not None:
             args += (circle,)
-        return start_with_timeout(_gmsh_session, args, self._timeout)
+        # the session by reference from here (the module's at this moment), for the worker to call
+        return start_with_timeout(_meshed, (_gmsh_session, args, self._frame, circle is not None), self._timeout)
 
     def cancel(self) -> None:
         self._first.cancel()
 
     def result(self) -> CrackMesh:
-        import wingcrack_kernels as _kernels
-
-        domain, plan, frame, half = self._domain, self._plan, self._frame, self._half
         retried = False
         try:
-            raw = self._first.result()
-            t_gmsh = self._first.seconds
+            done = self._first.result()
+            t_worker = self._first.seconds
         except MeshTimeout:
             retried = True  # once: coarser sizes, Delaunay instead of Frontal-Delaunay
-            t_first = self._timeout
             second = self.attempt(1.5, 5)
-            raw = second.result()
-            t_gmsh = t_first + second.seconds
+            done = second.result()
+            t_worker = self._timeout + second.seconds
         t_after = time.perf_counter()
-        if half is not None:
-            raw = _glue(domain, plan, half, raw)
-
-        t0 = time.perf_counter()
-        # the binding answers a dict: its one conversion into the record
-        split = SplitMesh(**_kernels.split_faces(raw.x, raw.cells, raw.crack_edges, raw.crack_fracture,
-                                                 raw.boundary_edges))
-        tips = _tip_nodes(plan, raw, split)
-        x = _kernels.quarter_points(split.x, split.cells, np.array([t.node for t in tips], dtype=np.int64))
-        jac = _kernels.min_jacobian(x, split.cells)
-        if jac.size and jac.min() <= 0.0:
-            bad = int(np.argmin(jac))
-            raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
-        t_split = time.perf_counter() - t0
-        x, jac = frame.back(x), jac * frame.scale**2
-        for t in tips:
-            t.x, t.h = frame.back(t.x), t.h * frame.scale
-
-        names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
-        mesh = CrackMesh(
-            x=x,
-            cells=split.cells,
-            boundary_edges=split.boundary_edges,
-            boundary_tags=np.array([names[n] for n in raw.boundary_name], dtype=np.int64),
-            boundary_names=names,
-            pairs=split.pairs,
-            pair_normal=split.pair_normal,
-            pair_fracture=split.pair_fracture,
-            crack_edges=split.crack_edges,
-            crack_fracture=raw.crack_fracture,
-            tips=tips,
-            point_nodes=raw.point_nodes,
-            crack_edges_minus=split.crack_edges_minus,
-            far=raw.far,
-        )
-        mesh.stats = {
-            "nodes": int(len(x)),
-            "vertices": int(len(np.unique(mesh.cells[:, :3]))),
-            "cells": int(len(mesh.cells)),
-            "boundary_edges": int(len(mesh.boundary_edges)),
-            "crack_edges": int(len(mesh.crack_edges)),
-            "pairs": int(len(mesh.pairs)),
-            "tips": len(tips),
-            "min_jacobian": float(jac.min()) if jac.size else 0.0,
-            "min_quality": float(triangle_quality(x, mesh.cells).min()) if len(mesh.cells) else 0.0,
-            # gmsh's own time (in the worker: not the caller's wait, which the pipeline overlaps)
-            "seconds_gmsh": t_gmsh,
-            "gmsh_retried": retried,
-            "symmetric": half is not None,
-            "divider_angle": None if half is None else math.degrees(half.angle),
-            "patch": self._job[5] is not None,
-            "far_reused": bool(raw.far_reused),  # the far field's cells from the last call's (_FarCache)
-            # the divider inside the patch circle (symmetric meshes with a patch; its own, see point_symmetry.Inner)
-            "inner_divider_angle": None if half is None or half.inner is None else math.degrees(half.inner.angle),
-            "seconds_split": t_split,
-            # planning + gmsh + the rest here
-            "seconds": self._seconds + t_gmsh + (time.perf_counter() - t_after),
-        }
+        if isinstance(done, BaseException):   # raised after gmsh, in the worker: raised here as it was
+            raise done
+        mesh, t_gmsh = done
+        mesh.stats["seconds_gmsh"] = t_gmsh + (self._timeout if retried else 0.0)
+        mesh.stats["gmsh_retried"] = retried
+        # planning + the worker's gmsh and finishing + the rest here
+        mesh.stats["seconds"] = self._seconds + t_worker + (time.perf_counter() - t_after)
         return mesh
+
+
+def _meshed(session, args: tuple, frame, patched: bool):
+    """(CrackMesh, gmsh's seconds) of session(*args) (_gmsh_session),
+    finished (_finish), in the meshing worker; an error after gmsh is
+    returned, not raised (PendingMesh.result raises it in the caller with
+    its own type)."""
+    t0 = time.perf_counter()
+    raw = session(*args)
+    t_gmsh = time.perf_counter() - t0
+    domain, plan, half = args[0], args[1], args[6]
+    try:
+        return _finish(domain, plan, frame, half, raw, patched), t_gmsh
+    except (RuntimeError, ValueError) as error:
+        return error
+
+
+def _finish(domain, plan, frame, half, raw: RawMesh, patched: bool) -> CrackMesh:
+    """The CrackMesh of gmsh's `raw` mesh (in gmsh's frame): the half glued
+    to its image, the crack faces split, quarter points at the tips,
+    checked, back in the caller's frame."""
+    import wingcrack_kernels as _kernels
+
+    if half is not None:
+        raw = _glue(domain, plan, half, raw)
+    t0 = time.perf_counter()
+    # the binding answers a dict: its one conversion into the record
+    split = SplitMesh(**_kernels.split_faces(raw.x, raw.cells, raw.crack_edges, raw.crack_fracture,
+                                             raw.boundary_edges))
+    tips = _tip_nodes(plan, raw, split)
+    x = _kernels.quarter_points(split.x, split.cells, np.array([t.node for t in tips], dtype=np.int64))
+    jac = _kernels.min_jacobian(x, split.cells)
+    if jac.size and jac.min() <= 0.0:
+        bad = int(np.argmin(jac))
+        raise RuntimeError(f"mesh cell {bad} has min det J = {jac[bad]:.3g} <= 0 after quarter points")
+    t_split = time.perf_counter() - t0
+    x, jac = frame.back(x), jac * frame.scale**2
+    for t in tips:
+        t.x, t.h = frame.back(t.x), t.h * frame.scale
+
+    names = {name: i + 1 for i, name in enumerate(domain.boundary_names())}
+    mesh = CrackMesh(
+        x=x,
+        cells=split.cells,
+        boundary_edges=split.boundary_edges,
+        boundary_tags=np.array([names[n] for n in raw.boundary_name], dtype=np.int64),
+        boundary_names=names,
+        pairs=split.pairs,
+        pair_normal=split.pair_normal,
+        pair_fracture=split.pair_fracture,
+        crack_edges=split.crack_edges,
+        crack_fracture=raw.crack_fracture,
+        tips=tips,
+        point_nodes=raw.point_nodes,
+        crack_edges_minus=split.crack_edges_minus,
+        far=raw.far,
+    )
+    mesh.stats = {
+        "nodes": int(len(x)),
+        "vertices": int(len(np.unique(mesh.cells[:, :3]))),
+        "cells": int(len(mesh.cells)),
+        "boundary_edges": int(len(mesh.boundary_edges)),
+        "crack_edges": int(len(mesh.crack_edges)),
+        "pairs": int(len(mesh.pairs)),
+        "tips": len(tips),
+        "min_jacobian": float(jac.min()) if jac.size else 0.0,
+        "min_quality": float(triangle_quality(x, mesh.cells).min()) if len(mesh.cells) else 0.0,
+        # gmsh's own time (in the worker: not the caller's wait, which the pipeline overlaps): PendingMesh.result
+        "seconds_gmsh": None,
+        "gmsh_retried": False,
+        "symmetric": half is not None,
+        "divider_angle": None if half is None else math.degrees(half.angle),
+        "patch": patched,
+        "far_reused": bool(raw.far_reused),  # the far field's cells from the last call's (_FarCache)
+        # the divider inside the patch circle (symmetric meshes with a patch; its own, see point_symmetry.Inner)
+        "inner_divider_angle": None if half is None or half.inner is None else math.degrees(half.inner.angle),
+        "seconds_split": t_split,
+        "seconds": None,
+    }
+    return mesh
 
 
 @dataclass(frozen=True)

@@ -224,7 +224,7 @@ class Channel:
 
 _channels: list[Channel] = []
 #: the meshing worker
-MESHING = Channel("meshing", "gmsh", what="gmsh")
+MESHING = Channel("meshing", "meshing:load_worker_modules", what="gmsh")
 
 
 def start() -> None:

@@ -116,6 +116,21 @@ def test_the_reuse_ratio_of_made_up_steps():
     assert targets.reuse(steps[:1]) == {}
 
 
+def test_target_2_takes_each_steps_median_over_the_runs():
+    """median_steps: phase by phase and step by step, the median over the
+    runs (the spike in the second run's second step drops out); the reuse
+    ratio then of those medians."""
+    runs = [[step(mesh=0.25, factorize=0.5, solve=0.25), step(mesh=0.25, factorize=0.05, solve=0.2)],
+            [step(mesh=0.3, factorize=0.6, solve=0.3), step(mesh=0.9, factorize=0.05, solve=0.1)],
+            [step(mesh=0.2, factorize=0.4, solve=0.2), step(mesh=0.2, factorize=0.08, solve=0.3)]]
+    med = targets.median_steps(runs)
+    assert med[0]["seconds"]["mesh"] == 0.25 and med[0]["seconds"]["factorize"] == 0.5
+    assert med[1]["seconds"]["mesh"] == 0.25 and med[1]["seconds"]["factorize"] == 0.05
+    # the total too is a median (of the runs' step totals 0.5, 1.05, 0.58), not the medians' sum
+    assert med[1]["seconds"]["solve"] == 0.2 and med[1]["seconds"]["total"] == pytest.approx(0.58)
+    assert targets.reuse(med)["fractions"] == pytest.approx([0.58])
+
+
 def test_the_34_step_disc_is_read_back_by_the_case_reader(tmp_path):
     src = Case.from_toml(targets.OPEN_DISC)
     path = write_variant(targets.OPEN_DISC, targets.DISC_34, tmp_path / "d34.toml")

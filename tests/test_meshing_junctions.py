@@ -13,6 +13,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from meshing.crack_mesh import ROSETTE_IN_SEGMENT, crack_mesh
+from meshing.crack_mesh import _gmsh_session as _real_session   # as imported: before any monkeypatch
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout
 
@@ -160,6 +161,31 @@ def test_a_hanging_gmsh_is_retried_once_then_fails(monkeypatch):
     monkeypatch.setattr(cm_mod, "_gmsh_session", stuck)
     with pytest.raises(MeshTimeout, match="did not finish within 1 s"):
         crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=1.0)
+
+
+def inverted(*a):
+    """gmsh's session with its first cell turned inside out (v1 and v2
+    swapped, and their mid nodes m01 and m20). Module-level: the meshing
+    worker imports it by reference."""
+    import dataclasses
+
+    raw = _real_session(*a)
+    cells = raw.cells.copy()
+    cells[0] = cells[0, [0, 2, 1, 5, 4, 3]]
+    return dataclasses.replace(raw, cells=cells)
+
+
+def test_an_error_after_gmsh_reaches_the_caller_as_it_was_raised(monkeypatch):
+    """The worker finishes the mesh (split faces, quarter points, the
+    Jacobian check): an inverted cell found there is raised in the caller
+    with its own type and message, as when the caller finished the mesh."""
+    import sys
+    cm_mod = sys.modules["meshing.crack_mesh"]
+    domain, fr, _ = t_junction_mesh()
+    monkeypatch.setattr(cm_mod, "_gmsh_session", inverted)
+    for timeout in (30.0, None):   # in the meshing worker, and in this process
+        with pytest.raises(RuntimeError, match=r"^mesh cell 0 has min det J = -"):
+            crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=timeout)
 
 
 def test_two_fractures_meeting_end_to_end():
