@@ -227,7 +227,8 @@ class PendingMesh:
         if circle is not None:
             args += (circle,)
         # the session by reference from here (the module's at this moment), for the worker to call
-        return start_with_timeout(_meshed, (_gmsh_session, args, self._frame, circle is not None), self._timeout)
+        finish = (self._domain, self._plan, self._frame, self._half, circle is not None)
+        return start_with_timeout(_meshed, (_gmsh_session, args, finish), self._timeout)
 
     def cancel(self) -> None:
         self._first.cancel()
@@ -253,15 +254,16 @@ class PendingMesh:
         return mesh
 
 
-def _meshed(session, args: tuple, frame, patched: bool):
+def _meshed(session, args: tuple, finish: tuple):
     """(CrackMesh, gmsh's seconds) of session(*args) (_gmsh_session),
-    finished (_finish), in the meshing worker; an error after gmsh is
-    returned, not raised (PendingMesh.result raises it in the caller with
-    its own type)."""
+    finished by _finish(*finish, ...) ((domain, plan, frame, half,
+    patched): the same objects as in args, which one pickle carries once),
+    in the meshing worker; an error after gmsh is returned, not raised
+    (PendingMesh.result raises it in the caller with its own type)."""
     t0 = time.perf_counter()
     raw = session(*args)
     t_gmsh = time.perf_counter() - t0
-    domain, plan, half = args[0], args[1], args[6]
+    domain, plan, frame, half, patched = finish
     try:
         return _finish(domain, plan, frame, half, raw, patched), t_gmsh
     except (RuntimeError, ValueError) as error:

@@ -476,17 +476,22 @@ def test_a_far_interior_read_by_a_sif_domain_is_expanded_first(meshes, epoch):
     tip = cm2.tips[0]
     r_out = R_PATCH + 2.0   # beyond the patch: far cells with I nodes
     values = []
-    for whole_first in (True, False):
+    for mode in ("whole K", "expanded first", "deferred"):
         p = problem(case, cm2)
-        p.factorize(far=far)
-        p.solve(1.0, expand=False)
-        if whole_first:
+        p.factorize(far=None if mode == "whole K" else far)
+        p.solve(1.0, expand=mode == "whole K")
+        if mode == "expanded first":
             p.u
         M = InteractionIntegral(p, m.E, m.nu, m.plane, case.stress.tensor())
-        values.append(M.sifs(tip.x, tip.ex, tip.ey, 1.000001 * tip.h, r_out))
+        values.append(np.array(M.sifs(tip.x, tip.ex, tip.ey, 1.000001 * tip.h, r_out)))
         assert not p._deferred
         p.destroy()
-    assert values[0] == values[1]
+    reference, expanded, deferred = values
+    assert np.array_equal(deferred, expanded)
+    # against the whole K's factorisation: the integral is linear in u, whose two solutions differ by
+    # round-off (TOL of max |u|, see the module doc); a domain with the far interior unexpanded (u = 0
+    # there) is off by the far field's share of the integral (measured: 3e-2 of |K|; expanded: 5e-15)
+    assert np.abs(deferred - reference).max() <= 100 * TOL * np.abs(reference).max()
 
 
 def test_a_response_added_on_R_is_expanded_again(meshes, monkeypatch):
