@@ -9,8 +9,8 @@ import pytest
 
 from wingcrack.contact.active_set import solve_active_set
 from wingcrack.errors import ComputationError
-from wingcrack.contact.friction import (OPEN, SLIP, STATE_BAND, STICK, FrictionRows, fixed_point_solve,
-                                       solve_friction)
+from wingcrack.contact.friction import (OPEN, SLIP, STATE_BAND, STICK, FrictionRows, _fixed_point, _Problem,
+                                       fixed_point_solve, solve_friction)
 
 DATA = Path(__file__).parent / "data"
 
@@ -92,11 +92,6 @@ def _random_problem(seed, p=12, f=0.4, c=0.05):
 @pytest.mark.parametrize("cohesion", [0.0, 0.05])
 def test_random_pair_systems_satisfy_the_friction_law(seed, cohesion):
     S, jump0, target, normal, law = _random_problem(seed, c=cohesion)
-    if cohesion and seed == 16:
-        # one of the measured cases (contact/friction.py) with no state set the iteration settles on
-        with pytest.raises(ComputationError, match="friction"):
-            solve_friction(S, jump0, target, normal, law)
-        return
     res = solve_friction(S, jump0, target, normal, law)
     weight = np.ones(len(jump0))
     r = res.friction_residuals(weight)
@@ -108,6 +103,7 @@ def test_random_pair_systems_satisfy_the_friction_law(seed, cohesion):
         # cohesion makes the law non-monotone: a pair may be open, or touch and hold c (both satisfy
         # it; seeds 6, 13 have both); the forces of another method need not be the same
         return
+    assert res.broken == 0
     # the second method (fixed point of Tresca problems by bounded least squares) finds the same forces
     other = fixed_point_solve(S, jump0, target, normal, ~normal & ~law.coulomb, law, [])
     scale = np.max(np.abs(res.mu))
@@ -225,3 +221,70 @@ def test_a_start_from_the_last_solve_changes_the_path_not_the_answer(seed):
     res = solve_friction(S, jump0, target, normal, law, start=foreign)
     np.testing.assert_allclose(res.mu, solve_friction(S, jump0, target, normal, law).mu, rtol=0,
                                atol=1e-12 * np.max(np.abs(res.mu)))
+
+
+# the seeds of the 200 below whose solve failed before the touching tolerance and the fallback that fixes
+# the cohesive pairs ("the active set cycles and the fixed point ... did not converge")
+_FAILED_BEFORE = (16, 61, 76, 109, 130, 137, 163, 189, 194)
+
+
+@pytest.mark.parametrize("cohesion", [0.05, 0.2, 1.0])
+def test_every_random_pair_system_with_cohesion_solves(cohesion):
+    """200 random 12-pair systems a cohesion (9 of the 200 at c = 0.05 ended in a ComputationError
+    before): every one solves and holds the law to round-off. At c = 0.05 a pair whose bond broke is
+    one the law leaves no state for: given back its cohesion it opens beyond twice the touching
+    tolerance (at larger cohesions several bonds break in one solve, and one given back alone need
+    not reopen)."""
+    broken = 0
+    for seed in range(200):
+        S, jump0, target, normal, law = _random_problem(seed, c=cohesion)
+        res = solve_friction(S, jump0, target, normal, law)
+        r = res.friction_residuals(np.ones(len(jump0)))
+        # a state set is one dense solve of a system of condition ~1e2; the fixed point stops at 1e-13
+        assert max(r.values()) < 1e-10, (seed, r)
+        kkt = res.kkt_residuals(-np.where(normal, target, 0.0), normal)
+        assert max(kkt.values()) < 1e-10, (seed, kkt)
+        if not res.broken or cohesion != 0.05:
+            continue
+        broken += 1
+        ci = np.flatnonzero(law.coulomb)
+        opening = (res.jump - res.reference)[law.partner[ci]]
+        lost = ci[~res.cohesive[ci] & (opening < res.touch)]
+        assert len(lost) == res.broken
+        P = _Problem.of(S, jump0, target, normal, ~normal & ~law.coulomb, law, None)
+        for row in lost:   # given back its cohesion alone, the pair opens beyond 2 tol
+            C = res.cohesive.copy()
+            C[row] = True
+            again = _fixed_point(P, [], C)
+            assert (again.jump - again.reference)[law.partner[row]] > 2 * res.touch, (seed, row)
+    if cohesion == 0.05:
+        # the seeds that failed before are where bonds break (no state satisfies the law there)
+        assert broken <= len(_FAILED_BEFORE)
+
+
+def test_cohesion_held_by_a_touching_pair_without_normal_force():
+    """One pair, no normal load: the faces touch (jump0_n = 0) and a tangential load below the
+    cohesion is held, above it the pair slips with |mu_t| = c (the law at zero normal stress, where
+    the earlier solver found the pair open and free)."""
+    S = np.array([[1.0, 0.0], [0.0, 2.0]])
+    law, normal = _law(1, 0.5, 1.0)
+    held = solve_friction(S, np.array([1e-6, 1.5]), np.zeros(2), normal, law)   # opens by 1e-6 of the slip
+    assert held.state[1] == STICK
+    np.testing.assert_allclose(held.mu, [0.0, -0.75], rtol=1e-14)   # S_tt mu_t = -jump0_t
+    slips = solve_friction(S, np.array([1e-6, 3.0]), np.zeros(2), normal, law)
+    assert slips.state[1] == SLIP
+    np.testing.assert_allclose(slips.mu, [0.0, -1.0], rtol=1e-14)   # at the cohesion bound
+    gone = solve_friction(S, np.array([0.1, 1.5]), np.zeros(2), normal, law)  # open by 7 % of the slip
+    assert gone.state[1] == OPEN and np.all(gone.mu == 0.0)
+
+
+def test_the_stalled_network_system_solves_fast():
+    """tests/data/cohesion_toggle.npz: 20 pairs around the one of a network case (six parallel Coulomb
+    fractures with c = 1e4 Pa) whose fixed point alternated forever: with its cohesion the pair opens by
+    7e-10 m (6e-6 of the jump scale), without it it closes. It now touches and holds its cohesion."""
+    d = np.load(DATA / "cohesion_toggle.npz")   # 40 rows (benchmarks: the case, its step 0)
+    law = FrictionRows(d["coulomb"], d["partner"], d["friction"], d["cohesion_force"])
+    res = solve_friction(d["S"], d["jump0"], d["target"], d["normal"], law)
+    assert not res.fallback and res.broken == 0
+    r = res.friction_residuals(np.ones(len(d["jump0"])))
+    assert max(r.values()) < 1e-10, r

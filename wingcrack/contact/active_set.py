@@ -12,9 +12,9 @@ jump = s, always. The active set A = {mu - c gamma > 0} is updated until it
 repeats (converged); a set seen before that is not the last one is cycling.
 The method is not globally convergent for every SPD S (random 7x7 compliances
 cycle about once in a hundred); on cycling, or without convergence, the same
-problem is solved as the bounded least-squares problem it is (S = L L^T:
-min |L^T mu - L^-1 (target - jump0)| with mu >= 0 on normal rows), by
-scipy's bounded-variable least squares, which terminates.
+problem is solved as the convex quadratic program it is (min 1/2 mu^T S mu -
+mu^T (target - jump0) with mu >= 0 on normal rows) by contact.box_qp, which
+terminates.
 """
 from __future__ import annotations
 
@@ -101,25 +101,19 @@ def solve_active_set(S, jump0, target, normal, c=None, active=None, max_iter=100
 def _bounded_least_squares(S, jump0, target, normal, history) -> ActiveSetResult:
     """The contact problem as min 1/2 mu^T S mu - mu^T (target - jump0), mu >= 0
     on normal rows, free on tangential rows (its KKT conditions are the
-    contact conditions), as a bounded least-squares problem."""
-    from scipy.linalg import solve_triangular
-    from scipy.optimize import lsq_linear
+    contact conditions), by contact.box_qp."""
+    from .box_qp import solve_box_qp
 
+    lower = np.where(normal, 0.0, -np.inf)
     try:
-        L = np.linalg.cholesky(S)
+        qp = solve_box_qp(S, target - jump0, lower, np.full(len(jump0), np.inf))
     except np.linalg.LinAlgError:
         raise ComputationError("contact: the pair system is singular (a pair is held by a "
                                "displacement condition on both faces?)") from None
-    b = solve_triangular(L, target - jump0, lower=True)
-    lower = np.where(normal, 0.0, -np.inf)
-    res = lsq_linear(L.T, b, bounds=(lower, np.full(len(b), np.inf)), method="bvls", tol=1e-15,
-                     lsmr_tol=None, max_iter=max(100, 10 * len(b)))
-    if res.status < 1:
-        raise ComputationError(f"contact: the active set cycles and bounded least squares failed ({res.message})")
-    mu = np.where(normal, np.maximum(res.x, 0.0), res.x)
+    mu = np.where(normal, np.maximum(qp.x, 0.0), qp.x)
     jump = jump0 + S @ mu
     if not np.all(np.isfinite(jump)):
         raise ComputationError("contact: NaN in the contact solve")
     active = normal & (mu > 0.0)
     history.append(int(active.sum()))
-    return ActiveSetResult(mu, jump, active, len(history) + int(res.nit), history, jump0, fallback=True)
+    return ActiveSetResult(mu, jump, active, len(history) + int(qp.steps), history, jump0, fallback=True)

@@ -4,41 +4,58 @@ Stadler & Wohlmuth (2008) written for 2D, where the tangential space of a
 pair is one line and the slip direction one sign.
 
 With the elasticity factorised, jumps depend on the row multipliers mu
-(nodal forces; + on the + node) through the dense pair compliance S:
+(nodal forces; + on the + node) through the dense pair compliance S, and,
+where a piece of the body is held by contact alone, on the amplitudes alpha
+of its rigid-body modes (their jumps G):
 
-    jump(mu) = jump0 + S mu.
+    jump(mu, alpha) = jump0 + S mu + G alpha,    G^T mu + e = 0,
+
+the second the piece's equilibrium (e: its other loads as generalised forces
+on the modes; FETI's coarse problem). Without such pieces G has no columns.
 
 Rows: normal rows (w + g >= 0, mu_n >= 0, mu_n (w + g) = 0), prescribed
 tangential rows ("slip" faces: jump = target) and Coulomb tangential rows
 paired with their normal row p. On a Coulomb row the friction law acts on
 the slip increment ds = s - s_ref from the last converged state s_ref:
 
-    |mu_t| <= F = c w_p + mu_f mu_n            (bound; forces)
-    |mu_t| <  F  ->  ds = 0                    (stick)
-    |mu_t| =  F  ->  mu_t ds <= 0              (slip, against the increment)
-    open pair    ->  mu_t = 0.
+    |mu_t| <= F = c w_p + mu_f mu_n                (bound; forces; c only while touching)
+    |mu_t| <  F  ->  ds = 0                         (stick)
+    |mu_t| =  F  ->  mu_t ds <= 0                   (slip, against the increment)
 
-With lam = -mu_t the update of a contact pair's state is
+Cohesion is held by faces that touch. Whether faces carrying no normal force
+touch is a question of a tolerance: under pure shear a straight crack on a
+finite mesh slides with an opening of a few 1e-4 of its slip (measured:
+2e-8 m against 8e-5 m), which must not decide whether its cohesion holds.
+A pair touches while its opening w + g is below TOUCH_RTOL of the pair
+system's jump scale (the largest jump without pair forces, or target); it
+is open from twice that; between the two either holds. So a pair holds its
+cohesion only if its opening stays below 2 tol, and must hold it if the
+opening is below tol. Where the cohesion opens a pair beyond 2 tol that
+closes without it, no state satisfies this law (the bound jumps from c w_p
+to 0 as the faces part: the earlier fixed point alternated between the two
+forever); there the pair's bond breaks: it keeps its friction and loses its
+cohesion for the solve (FrictionResult.broken counts such pairs).
+
+With lam = -mu_t the update of a closed pair's state is
     z = lam + c_t ds;  |z| > F: slip with sign(z), lam = F sign(z); else stick,
-and F from the normal predictor mu_n - c_n (w + g) (Hueber et al.). For a
-state set the equations are linear (in 2D the slip direction is a sign, not
-a unit vector to linearise), so every iteration is one dense solve on the
-pair system; the method stops when the set repeats. A pair changes between
-stick and slip only where the law is violated by more than a band of
-round-off (STATE_BAND) on either side of the bound: a pair at the bound
-with a zero increment satisfies both. A set seen before that is not the
-last one is cycling: then the same problem is solved as a fixed point on
-the friction bound, each a bounded least-squares problem (Tresca
-friction with the bound of the last normal forces is a convex quadratic
-program with box bounds), which is how the frictionless solver falls back
-too. With no Coulomb row this is the frictionless solver itself
-(active_set.solve_active_set).
-
-Cohesion makes the law discontinuous where a pair touches with no normal
-force (it holds c w closed and nothing open): the discrete problem may then
-have two solutions or none. On random 12-pair compliances with c = 5 % of
-the force scale, 191 of 200 solve and 9 end in the ComputationError of the
-fallback (tests/test_friction_solver.py); without cohesion all do.
+and F from the normal predictor mu_n - c_n (w + g) (Hueber et al.); a pair
+holds its cohesion in the next set where it is predicted closed or its
+opening is below 1.5 tol. For a state set the equations are linear (in 2D
+the slip direction is a sign, not a unit vector to linearise), so every
+iteration is one dense solve on the pair system; the method stops when the
+set repeats. A pair changes between stick and slip
+only where the law is violated by more than a band of round-off
+(STATE_BAND) on either side of the bound: a pair at the bound with a zero
+increment satisfies both. The method is not globally convergent: where the
+state sets cycle, the fallback fixes which pairs hold cohesion (all at
+first) and solves the law that is then continuous, by the same iteration
+or else as a fixed point on the friction bound, each iterate a Tresca
+problem (the bound of the last forces fixed: a convex quadratic program
+with box bounds and the pieces' equilibrium as equalities, contact.box_qp),
+damped where it oscillates; pairs that open beyond 2 tol lose their
+cohesion and the law is solved again (at most once a pair: it ends).
+With no Coulomb row and no floating piece this is the frictionless solver
+itself (active_set.solve_active_set).
 """
 from __future__ import annotations
 
@@ -48,15 +65,18 @@ import numpy as np
 
 from ..errors import ComputationError
 from .active_set import ActiveSetResult, solve_active_set
+from .box_qp import Infeasible, solve_box_qp
 
 OPEN, STICK, SLIP = 0, 1, 2
-#: largest number of fixed-point solves on the friction bound (fallback)
+#: largest number of Tresca problems of the fallback's fixed point
 FIXED_POINT_ITERATIONS = 200
-#: the fallback's fixed point has converged when the normal forces change by less than this (relative)
+#: the fixed point has converged when the bound changes by less than this (relative to the largest force)
 FIXED_POINT_RTOL = 1e-13
 #: the complementarity parameters are scaled by these in turn when the state sets cycle (the
 #: semi-smooth Newton method is not globally convergent; another scaling changes its path)
-SCALINGS = (1.0, 10.0, 0.1, 100.0, 0.01)
+SCALINGS = (1.0, 10.0, 0.1)
+#: state sets one semi-smooth Newton attempt may visit (it ends in a few where it converges)
+MAX_ITERATIONS = 40
 #: a closed pair whose tangential force is within this (relative) of the bound is at it: it slips
 BOUND_RTOL = 1e-9
 #: the iteration's band round the bound (relative to the largest force): a sticking pair slips when its
@@ -64,13 +84,25 @@ BOUND_RTOL = 1e-9
 #: c_t). A pair at the bound with a zero increment (the last trials of a critical-load search, a hair above
 #: the load of their reference) satisfies both states to round-off; a one-sided band made such pairs
 #: alternate, each slip pushing a neighbour over the bound by ~1e-11 and its own increment staying below
-#: the band, and the sets cycled under every scaling (the stimulation network, 406 pairs).
+#: the band, and the sets cycled under every scaling.
 STATE_BAND = 1e-12
 #: residual of the linear equations, relative to the load scale, a converged set must reach
 RESIDUAL_RTOL = 1e-10
+#: faces open by less than this times the jump scale touch (they hold their cohesion), beyond twice it not
+TOUCH_RTOL = 1e-3
 
 _SINGULAR = ("contact: the pair system is singular (a pair is held by a displacement condition on both "
              "faces?)")
+
+
+class Mechanism(ComputationError):
+    """A piece held by contact alone that the contact cannot hold: residual
+    (r,) is the generalised force on its rigid modes that no admissible
+    contact force balances (the caller names the motion)."""
+
+    def __init__(self, residual):
+        self.residual = np.asarray(residual, float)
+        super().__init__("contact cannot hold a piece of the body that only contact holds")
 
 
 @dataclass
@@ -86,22 +118,37 @@ class FrictionRows:
 
 
 @dataclass
+class Rigid:
+    """The rigid modes of the pieces only contact holds: G (m, r) their
+    jumps per unit amplitude, e (r,) the other loads' generalised forces on
+    them (equilibrium: G^T mu + e = 0)."""
+    G: np.ndarray
+    e: np.ndarray
+
+
+@dataclass
 class FrictionResult(ActiveSetResult):
     """ActiveSetResult with the tangential states: state (m,) OPEN / STICK /
     SLIP on Coulomb rows (the pair's state on its normal row too; a closed
-    normal row without friction is SLIP), the reference slip and the law."""
+    normal row without friction is SLIP), the reference slip, the law,
+    cohesive (m,) the Coulomb rows whose pair holds its cohesion, touch the
+    touching tolerance (m), broken the pairs whose bond broke (see the
+    module) and alpha (r,) the rigid modes' amplitudes."""
     state: np.ndarray = None
     reference: np.ndarray = None
     law: FrictionRows = None
+    cohesive: np.ndarray = None
+    touch: float = 0.0
+    broken: int = 0
+    alpha: np.ndarray = None
 
     def bound(self) -> np.ndarray:
         """(m,) the friction bound F (forces) on Coulomb rows (0 elsewhere)."""
         law = self.law
         F = np.zeros(len(self.mu))
         i = np.flatnonzero(law.coulomb)
-        closed = self.state[i] != OPEN
-        F[i] = np.where(closed, law.cohesion_force[i] + law.friction[i] * np.maximum(self.mu[law.partner[i]], 0.0),
-                        0.0)
+        F[i] = np.where(self.cohesive[i], law.cohesion_force[i], 0.0) + \
+            law.friction[i] * np.maximum(self.mu[law.partner[i]], 0.0)
         return F
 
     def slip_increment(self) -> np.ndarray:
@@ -110,7 +157,9 @@ class FrictionResult(ActiveSetResult):
 
     def friction_residuals(self, weight) -> dict:
         """Largest violations of the friction law, relative: tractions to the
-        largest row traction |mu| / weight, increments to the jump scale."""
+        largest row traction |mu| / weight, increments to the jump scale;
+        "touch": the largest opening of a pair that holds cohesion beyond
+        2 tol (relative to tol; 0 where the law holds)."""
         law = self.law
         w = np.maximum(np.asarray(weight, float), 1e-300)
         t = np.abs(self.mu) / w
@@ -118,18 +167,54 @@ class FrictionResult(ActiveSetResult):
         ds = self.slip_increment()
         jscale = max(np.max(np.abs(self.jump0), initial=0.0), np.max(np.abs(self.jump), initial=0.0), 1e-300)
         c = law.coulomb
-        over = (np.abs(self.mu) - self.bound()) / w
+        F = self.bound()
+        over = (np.abs(self.mu) - F) / w
         slip, stick = c & (self.state == SLIP), c & (self.state == STICK)
+        i = np.flatnonzero(c & self.cohesive & (law.cohesion_force > 0))
+        opening = (self.jump - self.reference)[law.partner[i]]
         return {
             "bound": float(max(0.0, np.max(over[c], initial=0.0)) / tscale),
             "at_bound": float(np.max(np.abs(over[slip]), initial=0.0) / tscale),
             "direction": float(max(0.0, np.max(self.mu[slip] / w[slip] * ds[slip], initial=0.0)) / (tscale * jscale)),
-            "stick_increment": float(np.max(np.abs(ds[stick]), initial=0.0) / jscale),
+            "stick_increment": float(np.max(np.abs(ds[stick & (F > 0)]), initial=0.0) / jscale),
+            "touch": float(max(0.0, np.max(opening, initial=0.0) - 2 * self.touch) / max(self.touch, 1e-300)),
         }
 
 
-def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 100, active=None,
-                   start: FrictionResult | None = None):
+@dataclass
+class _Problem:
+    """One pair problem with its derived data."""
+    S: np.ndarray
+    jump0: np.ndarray
+    target: np.ndarray
+    normal: np.ndarray
+    prescribed: np.ndarray
+    law: FrictionRows
+    G: np.ndarray      # (m, r)
+    e: np.ndarray      # (r,)
+    touch: float
+
+    @classmethod
+    def of(cls, S, jump0, target, normal, prescribed, law, rigid):
+        m = len(jump0)
+        r = 0 if rigid is None else int(np.shape(rigid.G)[1])
+        jump0, target = np.asarray(jump0, float), np.asarray(target, float)
+        scale = max(float(np.max(np.abs(jump0), initial=0.0)), float(np.max(np.abs(target), initial=0.0)), 1e-300)
+        return cls(np.asarray(S, float), jump0, target, np.asarray(normal, bool), np.asarray(prescribed, bool), law,
+                   np.zeros((m, 0)) if r == 0 else np.asarray(rigid.G, float),
+                   np.zeros(0) if r == 0 else np.asarray(rigid.e, float), TOUCH_RTOL * scale)
+
+    @property
+    def ci(self):
+        return np.flatnonzero(self.law.coulomb)
+
+    @property
+    def pi(self):
+        return np.asarray(self.law.partner, np.int64)[self.ci]
+
+
+def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = MAX_ITERATIONS, active=None,
+                   start: FrictionResult | None = None, rigid: Rigid | None = None):
     """The contact problem with Coulomb rows. target: -g on normal rows, the
     prescribed slip on prescribed tangential rows, the reference slip s_ref
     on Coulomb rows; active: the normal rows to start in contact (default:
@@ -137,80 +222,95 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     rows (the last solve) whose states the iteration starts from: the trials
     of a critical-load search differ by little and their state sets mostly
     repeat. The answer is that of the state set the iteration ends on, not
-    of where it started; a start that does not settle is dropped. Without
-    Coulomb rows, the frictionless active set."""
-    S = np.asarray(S, float)
-    jump0 = np.asarray(jump0, float)
-    target = np.asarray(target, float)
+    of where it started; a start that does not settle is dropped. rigid:
+    the rigid modes of pieces only contact holds (Mechanism where it cannot).
+    Without Coulomb rows or such pieces, the frictionless active set."""
     normal = np.asarray(normal, bool)
     coulomb = np.asarray(law.coulomb, bool)
-    if not coulomb.any():
+    r = 0 if rigid is None else int(np.shape(rigid.G)[1])
+    if not coulomb.any() and r == 0:
         return solve_active_set(S, jump0, target, normal, active=active)
-    prescribed = ~normal & ~coulomb
-    # c turns a jump (m) into a force (N/m): the inverse mean compliance of the rows
-    cn = 1.0 / np.mean(np.abs(np.diag(S)[normal]))
-    ct = 1.0 / np.mean(np.abs(np.diag(S)[coulomb]))
-
+    P = _Problem.of(S, jump0, target, normal, ~normal & ~coulomb, law, rigid)
+    cn, ct = _parameters(P)
     history = []
-    if getattr(start, "state", None) is not None and len(start.mu) == len(jump0):
-        res = _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history,
-                          states=_start_states(start, normal, law))
+    if getattr(start, "state", None) is not None and len(start.mu) == len(P.jump0):
+        res = _active_set(P, cn, ct, max_iter, history, states=_start_states(start, P))
         if res is not None:
             return res
-    for scale in SCALINGS:
-        res = _active_set(S, jump0, target, normal, prescribed, law, cn * scale, ct * scale, max_iter, history,
-                          active)
+    for k in SCALINGS:
+        res = _active_set(P, cn * k, ct * k, max_iter, history, active)
         if res is not None:
             return res
-    return fixed_point_solve(S, jump0, target, normal, prescribed, law, history)
+    return _fallback(P, history, max_iter)
 
 
-def _start_states(start: FrictionResult, normal, law) -> tuple:
+def _parameters(P: _Problem):
+    """(c_n, c_t): turn a jump (m) into a force (N/m): the inverse mean compliance of the rows."""
+    diag = np.abs(np.diag(P.S))
+    coulomb = np.asarray(P.law.coulomb, bool)
+    cn = 1.0 / np.mean(diag[P.normal]) if P.normal.any() else 1.0 / np.mean(diag)
+    ct = 1.0 / np.mean(diag[coulomb]) if coulomb.any() else cn
+    return cn, ct
+
+
+def _start_states(start: FrictionResult, P: _Problem) -> tuple:
     """(A, T, sign) of the iteration from a result: its closed normal rows,
     its pairs' states, a slip against its tangential force (a pair at the
     bound without force, F = 0, starts sticking)."""
-    A = normal & np.asarray(start.active, bool)
-    ci = np.flatnonzero(law.coulomb)
+    A = P.normal & np.asarray(start.active, bool)
+    ci = P.ci
     T = np.full(len(A), OPEN, np.int8)
     sign = np.zeros(len(A))
     s = np.sign(-start.mu[ci])
+    closed = start.state[ci] != OPEN
     slip = (start.state[ci] == SLIP) & (s != 0)
-    T[ci] = np.where(A[law.partner[ci]], np.where(slip, SLIP, STICK), OPEN)
+    T[ci] = np.where(closed, np.where(slip, SLIP, STICK), OPEN)
     sign[ci] = np.where(T[ci] == SLIP, s, 0.0)
     return A, T, sign
 
 
-def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, history, active=None, states=None):
+def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None, cohesive=None):
     """The three-state iteration with complementarity parameters cn, ct,
     from `states` (A, T, sign) or else from the contact set `active`; None
-    when the state sets cycle (or do not settle in max_iter)."""
+    when the state sets cycle (or do not settle in max_iter). cohesive:
+    (m,) the Coulomb rows that hold their cohesion, fixed (the fallback's
+    law); None: decided by each iterate's opening (see the module)."""
+    S, jump0, target, normal, law = P.S, P.jump0, P.target, P.normal, P.law
     m = len(jump0)
     coulomb = np.asarray(law.coulomb, bool)
-    partner = np.asarray(law.partner, np.int64)
     f = np.asarray(law.friction, float)
     b0 = np.asarray(law.cohesion_force, float)
-    ci = np.flatnonzero(coulomb)
-    pi = partner[ci]
+    ci, pi = P.ci, P.pi
+    fixed = cohesive is not None
     if states is not None:
         A, T, sign = (np.array(x) for x in states)
     else:
         A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
         T = np.full(m, OPEN, np.int8)
-        T[ci] = np.where(A[pi], STICK, OPEN)
         sign = np.zeros(m)
-    seen = {_key(A, T, sign)}
+    C = np.zeros(m, bool)
+    C[ci] = cohesive[ci] if fixed else (A[pi] | ((jump0 - target)[pi] <= 1.5 * P.touch))
+    if states is None:
+        T[ci] = np.where(A[pi] | (C[ci] & (b0[ci] > 0)), STICK, OPEN)
+    seen = {_key(A, T, sign, C)}
     load = max(np.max(np.abs(target - jump0), initial=0.0), 1e-300)
     for it in range(1, max_iter + 1):
-        mu = _solve_set(S, jump0, target, normal, prescribed, A, T, sign, partner, f, b0)
-        jump = jump0 + S @ mu
+        sol = _solve_set(P, A, T, sign, C)
+        if sol is None:
+            return None
+        mu, alpha = sol
+        jump = jump0 + S @ mu + P.G @ alpha
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction iteration")
         history.append(int(A.sum()))
         gamma = jump - target                     # on normal rows: w + g
         A_new = normal & (mu - cn * gamma > 0)
+        C_new = C.copy()
+        if not fixed:
+            C_new[ci] = A_new[pi] | (gamma[pi] <= 1.5 * P.touch)
         T_new = np.full(m, OPEN, np.int8)
         sign_new = np.zeros(m)
-        F = b0[ci] + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
+        F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
         z = -mu[ci] + ct * (jump[ci] - target[ci])
         band = STATE_BAND * max(np.max(np.abs(mu), initial=0.0), 1e-300)
         slipping = np.abs(z) > F + band
@@ -221,125 +321,188 @@ def _active_set(S, jump0, target, normal, prescribed, law, cn, ct, max_iter, his
         keep = was & (sign[ci] * ct * (jump[ci] - target[ci]) >= -band)
         slipping = np.where(was, keep | slipping, slipping)
         direction = np.where(keep, sign[ci], direction)
-        T_new[ci] = np.where(A_new[pi], np.where(slipping, SLIP, STICK), OPEN)
+        closed = A_new[pi] | (C_new[ci] & (b0[ci] > 0))
+        T_new[ci] = np.where(closed, np.where(slipping, SLIP, STICK), OPEN)
         sign_new[ci] = np.where(T_new[ci] == SLIP, direction, 0.0)
-        if np.array_equal(A_new, A) and np.array_equal(T_new, T) and np.array_equal(sign_new, sign):
-            eq = A | prescribed | (coulomb & (T == STICK))
+        if np.array_equal(A_new, A) and np.array_equal(T_new, T) and np.array_equal(sign_new, sign) and \
+                np.array_equal(C_new, C):
+            eq = A | P.prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
             if res <= RESIDUAL_RTOL * max(load, np.max(np.abs(jump), initial=0.0)):
-                return FrictionResult(mu, jump, A, len(history), history, jump0, state=_labels(T, mu, law),
-                                      reference=target.copy(), law=law)
+                return _result(P, mu, alpha, jump, A, T, C, history, fallback=fixed)
             return None
-        key = _key(A_new, T_new, sign_new)
+        key = _key(A_new, T_new, sign_new, C_new)
         if key in seen:
             return None   # cycling
         seen.add(key)
-        A, T, sign = A_new, T_new, sign_new
+        A, T, sign, C = A_new, T_new, sign_new, C_new
     return None
 
 
-def _labels(T, mu, law) -> np.ndarray:
+def _result(P: _Problem, mu, alpha, jump, A, T, C, history, fallback, iterations=None, broken=0) -> FrictionResult:
+    """The FrictionResult of a solution; a pair that touches and holds its
+    cohesion without a normal force counts as closed."""
+    ci, pi = P.ci, P.pi
+    active = np.array(A, bool)
+    active[pi[T[ci] != OPEN]] = True
+    res = FrictionResult(mu, jump, active & P.normal, len(history) if iterations is None else iterations, history,
+                         P.jump0, fallback=fallback, state=T, reference=P.target.copy(), law=P.law,
+                         cohesive=np.array(C, bool), touch=P.touch, broken=int(broken), alpha=np.asarray(alpha, float))
+    res.state = _labels(res)
+    return res
+
+
+def _labels(res: FrictionResult) -> np.ndarray:
     """The states as the law names them, by the traction: a closed pair at
     the bound slips, below it sticks. The iteration's own labels differ
     where both hold, at the bound with a zero increment (frictionless faces,
     or the last solve of a critical-load search, a hair above the load its
     reference was accepted at): there the pair is sliding, not held."""
-    out = T.copy()
-    ci = np.flatnonzero(law.coulomb)
-    closed = T[ci] != OPEN
-    F = law.cohesion_force[ci] + law.friction[ci] * np.maximum(mu[law.partner[ci]], 0.0)
-    at = np.abs(mu[ci]) >= F * (1 - BOUND_RTOL)
+    out = res.state.copy()
+    ci = np.flatnonzero(res.law.coulomb)
+    closed = out[ci] != OPEN
+    F = res.bound()[ci]
+    at = np.abs(res.mu[ci]) >= F * (1 - BOUND_RTOL)
     out[ci] = np.where(closed, np.where(at, SLIP, STICK), OPEN)
     return out
 
 
-def _key(A, T, sign) -> bytes:
-    return A.tobytes() + T.tobytes() + np.sign(sign).astype(np.int8).tobytes()
+def _key(A, T, sign, C) -> bytes:
+    return A.tobytes() + T.tobytes() + np.sign(sign).astype(np.int8).tobytes() + C.tobytes()
 
 
-def _solve_set(S, jump0, target, normal, prescribed, A, T, sign, partner, f, b0) -> np.ndarray:
-    """The multipliers of one state set: jump = target on contact normal,
-    prescribed and sticking rows; mu_t = -sign (b0 + f mu_n) on slipping
-    rows; mu = 0 on open ones."""
-    m = len(jump0)
+def _solve_set(P: _Problem, A, T, sign, C):
+    """(mu, alpha) of one state set: jump = target on contact normal,
+    prescribed and sticking rows; mu_t = -sign (b0 [cohesive] + f mu_n) on
+    slipping rows; mu = 0 on open ones; the pieces' equilibrium G^T mu + e
+    = 0. None where that system is singular with floating pieces (this set
+    of closed pairs cannot hold one)."""
+    S, normal, law = P.S, P.normal, P.law
+    partner, f, b0 = law.partner, law.friction, law.cohesion_force
+    m = len(P.jump0)
+    r = P.G.shape[1]
     mu = np.zeros(m)
-    slip = T == SLIP
-    eq = np.flatnonzero((normal & A) | prescribed | (T == STICK))
-    sl = np.flatnonzero(slip)
+    eq = np.flatnonzero((normal & A) | P.prescribed | (T == STICK))
+    sl = np.flatnonzero(T == SLIP)
     unknown = np.r_[eq, sl]
-    if len(unknown) == 0:
-        return mu
+    if len(unknown) == 0 and r == 0:
+        return mu, np.zeros(0)
     col = {int(j): k for k, j in enumerate(unknown)}
     n = len(unknown)
-    M = np.zeros((n, n))
-    r = np.zeros(n)
-    M[:len(eq)] = S[np.ix_(eq, unknown)]
-    r[:len(eq)] = target[eq] - jump0[eq]
+    M = np.zeros((n + r, n + r))
+    rhs = np.zeros(n + r)
+    M[:len(eq), :n] = S[np.ix_(eq, unknown)]
+    M[:len(eq), n:] = P.G[eq]
+    rhs[:len(eq)] = P.target[eq] - P.jump0[eq]
     for k, j in enumerate(sl, start=len(eq)):
         M[k, k] = 1.0
-        M[k, col[int(partner[j])]] = sign[j] * f[j]
-        r[k] = -sign[j] * b0[j]
+        if int(partner[j]) in col:   # else the pair touches without a normal force: mu_n = 0
+            M[k, col[int(partner[j])]] = sign[j] * f[j]
+        rhs[k] = -sign[j] * (b0[j] if C[j] else 0.0)
+    if r:
+        M[n:, :n] = P.G[unknown].T
+        rhs[n:] = -P.e
     try:
-        mu[unknown] = np.linalg.solve(M, r)
+        sol = np.linalg.solve(M, rhs)
     except np.linalg.LinAlgError:
+        if r:
+            return None
         raise ComputationError(_SINGULAR) from None
-    return mu
+    if r and not np.all(np.isfinite(sol)):
+        return None
+    mu[unknown] = sol[:n]
+    return mu, sol[n:]
 
 
-def fixed_point_solve(S, jump0, target, normal, prescribed, law, history):
-    """Coulomb friction as a fixed point on the bound F = c w + mu_f mu_n:
-    each iterate is Tresca friction with the last normal forces, the convex
-    problem min 1/2 mu^T S mu - mu^T (target - jump0) with mu_n >= 0 and
-    -F <= mu_t <= F (its KKT conditions: contact, stick inside the box,
-    slip against the increment on its faces), by bounded-variable least
-    squares."""
-    from scipy.linalg import solve_triangular
-    from scipy.optimize import lsq_linear
+def _fallback(P: _Problem, history, max_iter) -> FrictionResult:
+    """The law with the cohesive pairs fixed, all at first; those whose
+    opening then exceeds 2 tol lose their cohesion and it is solved again
+    (each pair at most once, so it ends). Each law is continuous: the
+    three-state iteration, or where that cycles the fixed point."""
+    m = len(P.jump0)
+    ci, pi = P.ci, P.pi
+    C = np.zeros(m, bool)
+    C[ci] = True
+    cn, ct = _parameters(P)
+    while True:
+        res = None
+        for k in SCALINGS[:1]:
+            res = _active_set(P, cn * k, ct * k, max_iter, history, cohesive=C)
+        if res is None:
+            res = _fixed_point(P, history, C)
+        opening = (res.jump - P.target)[pi]
+        drop = C[ci] & (opening > 2 * P.touch) & (np.asarray(P.law.cohesion_force)[ci] > 0)
+        if not drop.any():
+            res.broken = int(np.sum(~C[ci] & (opening < P.touch) & (np.asarray(P.law.cohesion_force)[ci] > 0)))
+            res.fallback = True
+            return res
+        C[ci[drop]] = False
 
+
+def fixed_point_solve(S, jump0, target, normal, prescribed, law, history, rigid: Rigid | None = None):
+    """The fallback on its own (see the module): cohesion as the fallback
+    decides it, each law solved as a fixed point on the bound (a second
+    method beside the three-state iteration)."""
+    P = _Problem.of(S, jump0, target, normal, prescribed, law, rigid)
+    m = len(P.jump0)
+    ci, pi = P.ci, P.pi
+    C = np.zeros(m, bool)
+    C[ci] = True
+    b0 = np.asarray(law.cohesion_force, float)[ci]
+    while True:
+        res = _fixed_point(P, history, C)
+        opening = (res.jump - P.target)[pi]
+        drop = C[ci] & (opening > 2 * P.touch) & (b0 > 0)
+        if not drop.any():
+            res.broken = int(np.sum(~C[ci] & (opening < P.touch) & (b0 > 0)))
+            return res
+        C[ci[drop]] = False
+
+
+def _fixed_point(P: _Problem, history, C) -> FrictionResult:
+    """Coulomb friction as a fixed point on the friction bound F = c w_p
+    [cohesive] + mu_f mu_n: each iterate is Tresca friction with the bound
+    of the last forces, the convex problem min 1/2 mu^T S mu - mu^T (target
+    - jump0) with mu_n >= 0, -F <= mu_t <= F and the pieces' equilibrium (its
+    KKT conditions: contact, stick inside the box, slip against the
+    increment on its faces), by contact.box_qp; the update of the bound is
+    relaxed (damped) where successive iterates oscillate."""
+    S, jump0, target, normal, law = P.S, P.jump0, P.target, P.normal, P.law
     m = len(jump0)
-    coulomb = np.asarray(law.coulomb, bool)
-    ci = np.flatnonzero(coulomb)
-    pi = law.partner[ci]
-    mu = np.zeros(m)
-    iterations = 0
+    ci, pi = P.ci, P.pi
+    f = np.asarray(law.friction, float)[ci]
+    b0 = np.where(C[ci], np.asarray(law.cohesion_force, float)[ci], 0.0)
+    lo = np.where(normal, 0.0, -np.inf)
+    hi = np.full(m, np.inf)
+    F = b0.copy()
+    mu, alpha = np.zeros(m), np.zeros(P.G.shape[1])
+    theta, last = 1.0, np.inf
+    steps = 0
     for _ in range(FIXED_POINT_ITERATIONS):
-        jump = jump0 + S @ mu
-        closed = (mu[pi] > 0) | ((jump - target)[pi] <= 0)
-        F = np.where(closed, law.cohesion_force[ci] + law.friction[ci] * np.maximum(mu[pi], 0.0), 0.0)
-        lo = np.where(normal, 0.0, -np.inf)
-        hi = np.full(m, np.inf)
         lo[ci], hi[ci] = -F, F
-        free = hi > lo
-        idx = np.flatnonzero(free)
-        new = np.zeros(m)
-        if len(idx):
-            try:
-                L = np.linalg.cholesky(S[np.ix_(idx, idx)])
-            except np.linalg.LinAlgError:
-                raise ComputationError(_SINGULAR) from None
-            b = solve_triangular(L, (target - jump0)[idx], lower=True)
-            res = lsq_linear(L.T, b, bounds=(lo[idx], hi[idx]), method="bvls", tol=1e-15, lsmr_tol=None,
-                             max_iter=max(100, 10 * len(idx)))
-            if res.status < 1:
-                raise ComputationError(f"contact: friction: the active set cycles and bounded least squares "
-                                       f"failed ({res.message})")
-            iterations += int(res.nit)
-            new[idx] = np.clip(res.x, lo[idx], hi[idx])
-        change = np.max(np.abs(new - mu)[normal], initial=0.0)
-        scale = max(np.max(np.abs(new), initial=0.0), 1e-300)
-        mu = new
+        try:
+            qp = solve_box_qp(S, target - jump0, lo, hi, P.G if P.G.shape[1] else None, P.e, x0=mu, alpha0=alpha)
+        except Infeasible as err:
+            raise Mechanism(err.residual) from None
+        mu, alpha = qp.x, qp.alpha
+        steps += qp.steps
+        jump = jump0 + S @ mu + P.G @ alpha
+        if not np.all(np.isfinite(jump)):
+            raise ComputationError("contact: NaN in the friction solve")
         history.append(int(np.sum(normal & (mu > 0))))
-        if change <= FIXED_POINT_RTOL * scale:
+        F_new = b0 + f * np.maximum(mu[pi], 0.0)
+        change = float(np.max(np.abs(F_new - F), initial=0.0))
+        fscale = max(float(np.max(np.abs(mu), initial=0.0)), 1e-300)
+        if change <= FIXED_POINT_RTOL * fscale:
             break
+        if change >= last:   # oscillating: relax the update
+            theta = max(theta / 2, 1.0 / 64)
+        last = change
+        F = F + theta * (F_new - F)
     else:
-        raise ComputationError(f"contact: friction: the active set cycles and the fixed point on the friction "
-                               f"bound did not converge in {FIXED_POINT_ITERATIONS} iterations")
-    jump = jump0 + S @ mu
-    if not np.all(np.isfinite(jump)):
-        raise ComputationError("contact: NaN in the friction solve")
-    active = normal & (mu > 0.0)
-    state = np.full(m, OPEN, np.int8)
-    state[ci] = np.where(active[pi] | ((jump - target)[pi] <= 0), STICK, OPEN)
-    state = _labels(state, mu, law)
-    return FrictionResult(mu, jump, active, len(history) + iterations, history, jump0, fallback=True,
-                          state=state, reference=target.copy(), law=law)
+        raise ComputationError(f"contact: friction: the fixed point on the friction bound did not converge in "
+                               f"{FIXED_POINT_ITERATIONS} iterations")
+    A = normal & (mu > 0.0)
+    T = np.full(m, OPEN, np.int8)
+    T[ci] = np.where(A[pi] | (C[ci] & (b0 > 0)), STICK, OPEN)
+    return _result(P, mu, alpha, jump, A, T, C, history, fallback=True, iterations=len(history) + steps)
