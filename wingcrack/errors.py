@@ -23,3 +23,9 @@ class FolderError(ValueError):
         self.path = str(path)
         self.reason = reason
         super().__init__(f"{self.path}: {reason}")
+
+
+class Collapse(ComputationError):
+    """A piece that only contact holds cannot be held: the body is a
+    mechanism under its load (the message names the piece and its motion).
+    A run that reaches it has ended its loading path: it stops there."""

@@ -6,9 +6,9 @@ rigid-body modes unless displacement conditions on the piece fix all three
 reliably say so: a piece held at one point only (free to rotate) gave a
 pivot no threshold flagged and displacements of 1e9 m. Here the check is
 exact and made before factorising: the connected pieces of the split mesh
-(crack faces apart; contact does not hold a piece, since the pair system is
-built on K^-1), and for each the rank of the rigid modes restricted to its
-constrained degrees of freedom.
+(crack faces apart), and for each the rank of the rigid modes restricted to
+its constrained degrees of freedom. Pieces whose faces carry contact are
+then solved through the contact problem (wingcrack.floating).
 
 Pure numpy/scipy on the CrackMesh and the Loads (wingcrack.loads),
 identical on every process (every process holds the whole crack mesh).
@@ -30,6 +30,9 @@ class FreePiece:
     centre: np.ndarray  # (2,) centre of the piece's bounding box
     motion: str  # what the free rigid-body modes let it do
     cells: int
+    nodes: np.ndarray = None  # the piece's CrackMesh nodes
+    modes: np.ndarray = None  # (k, 3) its free rigid modes, rows [ux, uy, rotation (-y, x) / size about centre]
+    size: float = 1.0         # the largest side of its bounding box (m)
 
 
 def free_pieces(cm, loads) -> list[FreePiece]:
@@ -85,7 +88,8 @@ def free_pieces(cm, loads) -> list[FreePiece]:
             free = np.eye(3)
         if len(free):
             cells_here = int(np.count_nonzero(label[cells[:, 0]] == piece))
-            out.append(FreePiece(centre=centre, motion=_modes(free), cells=cells_here))
+            out.append(FreePiece(centre=centre, motion=_modes(free), cells=cells_here, nodes=nodes, modes=free,
+                                 size=size))
     return out
 
 

@@ -26,6 +26,8 @@ class Loads:
     outer_tags: tuple = ()                                     # every outer boundary tag
     face_forces: np.ndarray = None                             # (n_nodes, 2) N/m of the pressures
     mode: str = "scale"                                        # propagation.load
+    gauge: list = field(default_factory=list)                  # (node, comp): zero displacements that fix the
+    # rigid modes of pieces only contact holds (wingcrack.floating); no reaction: their equilibrium is the contact's
 
     def bc_factor(self, load_factor: float) -> float:
         """What multiplies the bc values and prescribed slip."""

@@ -56,8 +56,11 @@ class ContactRecord:
     rows (closed = stick + slip), the pairs in contact that stick and that
     slip, the contact solver's iterations, the relative KKT residuals (only
     when there are rows), the relative friction residuals (only with
-    coulomb rows: {bound, at_bound, direction, stick_increment}) and whether
-    the solver fell back to bounded least squares."""
+    coulomb rows: {bound, at_bound, direction, stick_increment, touch}),
+    whether the solver fell back (contact.friction), the pairs whose cohesive
+    bond broke where no state satisfies the law (broken) and the rigid
+    motions of pieces no face holds and no load drives (loose; placed in
+    the middle of their opening: wingcrack.floating)."""
     pairs: int
     rows: int
     closed: int = 0
@@ -67,10 +70,16 @@ class ContactRecord:
     slip: int = 0
     friction: dict | None = None
     fallback: bool = False
+    broken: int = 0
+    loose: int = 0
 
     def to_dict(self) -> dict:
         out = {"pairs": self.pairs, "rows": self.rows, "closed": self.closed, "stick": self.stick,
                "slip": self.slip, "iterations": self.iterations, "fallback": self.fallback}
+        if self.broken:
+            out["broken"] = self.broken
+        if self.loose:
+            out["loose"] = self.loose
         if self.kkt is not None:
             out["kkt"] = self.kkt
         if self.friction is not None:
@@ -85,7 +94,7 @@ class ContactRecord:
         closed = c.get("closed", 0)
         return cls(c["pairs"], c.get("rows", 0), closed, c.get("iterations", 0), c.get("kkt"),
                    c.get("stick", 0), c.get("slip", closed - c.get("stick", 0)), c.get("friction"),
-                   bool(c.get("fallback", False)))
+                   bool(c.get("fallback", False)), int(c.get("broken", 0)), int(c.get("loose", 0)))
 
 
 @dataclass

@@ -203,6 +203,8 @@ class Discretisation:
             rec.iterations = int(c.result.iterations)
             rec.kkt = c.result.kkt_residuals(c.rows.gap, c.rows.normal)
             rec.fallback = bool(c.result.fallback)
+            rec.broken = int(getattr(c.result, "broken", 0))
+            rec.loose = int(getattr(c.result, "loose", 0))
             if getattr(c.result, "state", None) is not None:
                 rec.friction = c.result.friction_residuals(c.rows.weight)
         return rec
@@ -329,7 +331,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
         from .fem.far_field import FarField
         from .fem.mesh import to_dolfinx
         from .fem.pair_operator import PairOperator
-        from .free_pieces import describe, free_pieces
+        from .free_pieces import free_pieces
         from .loads import case_loads
     except BaseException:   # Ctrl-C during the imports: the mesh is not collected
         mesh.cancel()
@@ -341,21 +343,18 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     timer.lap("to_dolfinx")
     m = case.material
     loads = case_loads(case, cm, fractures)
-    pieces = free_pieces(cm, loads)
-    if pieces:
-        raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
-                               f"no displacement condition holds ({describe(pieces)})")
+    rows = constraint_rows(cm, fractures)
+    floating = floating_pieces(cm, loads, rows, free_pieces(cm, loads))
     timer.lap("assemble")
-    if far is not None and not far.matches(cm):
-        far = None   # the patch moved on (the caller destroys the old one)
+    if far is not None and (floating is not None or not far.matches(cm)):
+        far = None   # the patch moved on, or a gauge changed its supports (the caller destroys the old one)
     timer.lap("patch")
     # with the far field kept, K is assembled where the reduced factorisation reads it only
     problem = ElasticProblem(fm, m.E, m.nu, m.plane, loads, cm=cm,
                              far_interior=None if far is None else far.interior_of(cm))
-    rows = constraint_rows(cm, fractures)
     timer.lap("assemble")
     started = False
-    if far is None and cm.far is not None:
+    if far is None and cm.far is not None and floating is None:
         far = FarField.start(problem, cm)
         started = far is not None
     timer.lap("patch")
@@ -366,11 +365,33 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
             far.destroy()
         far = None
     cm.stats["far_field"] = None if far is None else ("factorised" if started else "reused")
-    contact = ContactProblem(problem, rows)
+    contact = ContactProblem(problem, rows, floating)
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
     return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far)
+
+
+def floating_pieces(cm, loads, rows, pieces):
+    """The pieces that no displacement condition holds (free_pieces), to be
+    held by contact (wingcrack.floating, its gauge set in `loads`); None
+    when there are none. ComputationError where a piece's faces carry no
+    contact row (open faces): nothing can hold it."""
+    if not pieces:
+        return None
+    from .floating import Floating
+    from .free_pieces import describe
+
+    faces = np.zeros(len(cm.x), bool)
+    faces[np.r_[rows.plus, rows.minus].astype(np.int64)] = True
+    bare = [p for p in pieces if not faces[p.nodes].any()]
+    if bare:
+        raise ComputationError("the stiffness matrix is singular: a fracture cuts off a piece of the body that "
+                               f"no displacement condition holds and no contact either ({describe(bare)}; its faces "
+                               "are open)")
+    floating = Floating.of(cm, pieces, np.asarray(cm.pairs, np.int64).reshape(-1, 2))
+    loads.gauge = list(floating.gauge)
+    return floating
 
 
 def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,

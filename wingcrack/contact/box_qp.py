@@ -28,6 +28,7 @@ round-off.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,6 +49,10 @@ RHO_SLOW = 0.1
 RHO_MAX = 1e10
 #: most outer steps
 MAX_OUTER = 40
+#: an equality residual the largest penalty leaves below this (relative) is its round-off, not a
+#: residual no point meets: H + rho G G^T at rho = RHO_MAX keeps ~6 of H's digits, so the multipliers'
+#: updates stall at ~1e-12..1e-10 of the scale; an unbalanced load is of the order of the scale itself
+EQUALITY_FLOOR = 1e-8
 
 
 class Infeasible(Exception):
@@ -98,7 +103,7 @@ def solve_box_qp(H, c, lo, hi, G=None, e=None, x0=None, alpha0=None) -> BoxQPRes
     rho = RHO0 * float(np.mean(d)) / max(float(np.mean(GG)), 1e-300)
     rho_cap = RHO_MAX * float(np.mean(d)) / max(float(np.mean(GG)), 1e-300)
     steps, last, stalled = 0, np.inf, 0
-    escale = _equality_scale(G, e, x, lo, hi)
+    escale = _equality_scale(G, e, x, lo, hi, float(np.max(np.abs(c) / d, initial=0.0)))
     for _ in range(MAX_OUTER):
         Hr = H + rho * (G @ G.T)
         cr = c - G @ (alpha + rho * e)
@@ -117,17 +122,20 @@ def solve_box_qp(H, c, lo, hi, G=None, e=None, x0=None, alpha0=None) -> BoxQPRes
             if rho >= rho_cap:
                 stalled += 1
                 if stalled >= 3:
+                    if size <= EQUALITY_FLOOR * escale:   # round-off of H + rho G G^T: met
+                        return BoxQPResult(x, alpha, H @ x - c + G @ alpha, steps, False)
                     raise Infeasible(residual)
             rho = min(10.0 * rho, rho_cap)
         last = size
     raise Infeasible(G.T @ x + e)
 
 
-def _equality_scale(G, e, x, lo, hi) -> float:
+def _equality_scale(G, e, x, lo, hi, force=0.0) -> float:
     """What the equality residual is measured against: the generalised force of
-    the largest finite bound or of the start, or e."""
+    the largest finite bound, of x or of `force` (the forces that close the
+    jumps, |c| / diag(H)), or e."""
     finite = np.where(np.isfinite(hi), np.abs(hi), 0.0) + np.where(np.isfinite(lo), np.abs(lo), 0.0)
-    f = max(float(np.max(finite, initial=0.0)), float(np.max(np.abs(x), initial=0.0)))
+    f = max(float(np.max(finite, initial=0.0)), float(np.max(np.abs(x), initial=0.0)), float(force))
     return max(float(np.max(np.abs(e), initial=0.0)), f * float(np.max(np.abs(G), initial=0.0)), 1e-300)
 
 
@@ -190,7 +198,9 @@ def _polish(H, c, lo, hi, G, e, x, alpha) -> BoxQPResult | None:
         M, rhs = H[np.ix_(F, F)], rhs_top
     if len(rhs):
         try:
-            sol = linalg.solve(M, rhs, assume_a="sym" if r else "pos", check_finite=False)
+            with warnings.catch_warnings():   # a singular face (a piece it cannot hold) is refused below
+                warnings.simplefilter("ignore", linalg.LinAlgWarning)
+                sol = linalg.solve(M, rhs, assume_a="sym" if r else "pos", check_finite=False)
         except (linalg.LinAlgError, ValueError):
             return None
         if not np.all(np.isfinite(sol)):
@@ -203,9 +213,11 @@ def _polish(H, c, lo, hi, G, e, x, alpha) -> BoxQPResult | None:
     tol_x, tol_g = 1e-10 * yscale, 1e-10 * gscale
     if np.any(y[F] < lo[F] - tol_x) or np.any(y[F] > hi[F] + tol_x):
         return None
-    if np.any(g[at_lo] < -tol_g) or np.any(g[at_hi] > tol_g) or np.any(np.abs(g[F]) > tol_g):
+    pinned = lo == hi   # a variable with no room: its gradient has no sign to meet
+    if np.any(g[at_lo & ~pinned] < -tol_g) or np.any(g[at_hi] > tol_g) or np.any(np.abs(g[F]) > tol_g):
         return None
-    if r and np.max(np.abs(G.T @ y + e), initial=0.0) > 1e-10 * _equality_scale(G, e, y, lo, hi):
+    force = float(np.max(np.abs(c) / np.maximum(np.abs(np.diag(H)), 1e-300), initial=0.0))
+    if r and np.max(np.abs(G.T @ y + e), initial=0.0) > 1e-10 * _equality_scale(G, e, y, lo, hi, force):
         return None
     y = np.clip(y, lo, hi)
     return BoxQPResult(y, np.asarray(alpha, float), g, 0, True)

@@ -270,6 +270,12 @@ def constraint_rows(cm, fractures) -> ConstraintRows:
                     add(i, n_g, NORMAL, gap, 0.0, weight=w_of[g][i])
             n = used[0]
             first = len(rows["plus"]) - len(used)
+            if len(used) > 1:
+                # two normals that are not parallel fix both components of the jump when closed: a
+                # tangential row would repeat them (a singular pair system where the fractures meet
+                # at a right angle, t of one being n of the other); the meeting node slides without
+                # friction, as a T-junction's does
+                continue
         else:
             first = len(rows["plus"])
             add(i, n, NORMAL, gap, 0.0)

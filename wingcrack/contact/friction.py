@@ -98,10 +98,13 @@ _SINGULAR = ("contact: the pair system is singular (a pair is held by a displace
 class Mechanism(ComputationError):
     """A piece held by contact alone that the contact cannot hold: residual
     (r,) is the generalised force on its rigid modes that no admissible
-    contact force balances (the caller names the motion)."""
+    contact force balances, or (free_motion) a rigid motion that none of the
+    holding rows resists (the caller names the motion)."""
 
-    def __init__(self, residual):
+    def __init__(self, residual, free_motion: bool = False, closed=None):
         self.residual = np.asarray(residual, float)
+        self.free_motion = free_motion   # residual is a motion nothing resists, not an unbalanced force
+        self.closed = closed             # (m,) the normal rows closed at the end, where known
         super().__init__("contact cannot hold a piece of the body that only contact holds")
 
 
@@ -121,9 +124,11 @@ class FrictionRows:
 class Rigid:
     """The rigid modes of the pieces only contact holds: G (m, r) their
     jumps per unit amplitude, e (r,) the other loads' generalised forces on
-    them (equilibrium: G^T mu + e = 0)."""
+    them (equilibrium: G^T mu + e = 0); e_scale (r,) the sum of the
+    magnitudes of the terms of e (its round-off is ~1e-16 of that)."""
     G: np.ndarray
     e: np.ndarray
+    e_scale: np.ndarray = None
 
 
 @dataclass
@@ -141,6 +146,7 @@ class FrictionResult(ActiveSetResult):
     touch: float = 0.0
     broken: int = 0
     alpha: np.ndarray = None
+    loose: int = 0   # rigid motions of pieces no face holds and no load drives (placed, see _held)
 
     def bound(self) -> np.ndarray:
         """(m,) the friction bound F (forces) on Coulomb rows (0 elsewhere)."""
@@ -193,6 +199,7 @@ class _Problem:
     G: np.ndarray      # (m, r)
     e: np.ndarray      # (r,)
     touch: float
+    e_scale: np.ndarray = None   # (r,)
 
     @classmethod
     def of(cls, S, jump0, target, normal, prescribed, law, rigid):
@@ -202,7 +209,8 @@ class _Problem:
         scale = max(float(np.max(np.abs(jump0), initial=0.0)), float(np.max(np.abs(target), initial=0.0)), 1e-300)
         return cls(np.asarray(S, float), jump0, target, np.asarray(normal, bool), np.asarray(prescribed, bool), law,
                    np.zeros((m, 0)) if r == 0 else np.asarray(rigid.G, float),
-                   np.zeros(0) if r == 0 else np.asarray(rigid.e, float), TOUCH_RTOL * scale)
+                   np.zeros(0) if r == 0 else np.asarray(rigid.e, float), TOUCH_RTOL * scale,
+                   None if r == 0 or rigid.e_scale is None else np.asarray(rigid.e_scale, float))
 
     @property
     def ci(self):
@@ -240,8 +248,80 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     for k in SCALINGS:
         res = _active_set(P, cn * k, ct * k, max_iter, history, active)
         if res is not None:
-            return res
-    return _fallback(P, history, max_iter)
+            return _held(P, res)
+    return _held(P, _fallback(P, history, max_iter))
+
+
+#: the rigid modes' jumps on the rows that hold (closed normal, sticking, prescribed) determine the
+#: amplitudes when their smallest singular value is above this times the largest
+HELD_RTOL = 1e-8
+#: a load on a rigid motion below this times the magnitude of the terms it sums is round-off: the
+#: motion is unloaded (the in-situ stress's load on an inner piece sums to zero, to ~1e-16 of its terms)
+UNLOADED_RTOL = 1e-9
+
+
+def _held(P: _Problem, res: FrictionResult) -> FrictionResult:
+    """res, where the rows that hold fix every rigid mode. A motion they
+    leave free that a load drives: Mechanism. One that no load drives (a
+    piece whose faces all opened around it, with nothing on it, or with a
+    fluid pressure all round): the piece is loose, its place undetermined by
+    the equations; it is put in the middle of its opening (_middle), and
+    res.loose counts such motions."""
+    r = P.G.shape[1]
+    if r == 0:
+        return res
+    law = P.law
+    holding = (P.normal & res.active) | P.prescribed | (np.asarray(law.coulomb, bool) & (res.state == STICK))
+    closed = P.normal & res.active
+    Gh = P.G[holding]
+    if len(Gh):
+        _, sv, vt = np.linalg.svd(Gh)
+        sv = np.r_[sv, np.zeros(r - len(sv))]
+        vt = np.vstack([vt, _complement(vt, r)]) if len(vt) < r else vt
+        free = sv <= HELD_RTOL * max(float(np.max(np.linalg.norm(P.G, axis=0))), 1e-300)
+    else:
+        vt, free = np.eye(r), np.ones(r, bool)
+    if not free.any():
+        return res
+    V = vt[free].T                                           # (r, k) the free motions
+    scale = np.abs(V).T @ (P.e_scale if P.e_scale is not None else np.abs(P.e))
+    if np.any(np.abs(V.T @ P.e) > UNLOADED_RTOL * np.maximum(scale, 1e-300)) or P.e_scale is None:
+        k = int(np.argmax(np.abs(V.T @ P.e)))
+        raise Mechanism(V[:, k], free_motion=True, closed=closed)
+    GV = P.G[P.normal] @ V
+    on = np.any(np.abs(GV) > 0, axis=1)
+    GV, gamma = GV[on], (res.jump - P.target)[P.normal][on]
+    z = _middle(GV, gamma)
+    res.alpha = res.alpha + V @ z
+    res.jump = res.jump + P.G @ (V @ z)
+    res.loose = int(free.sum())
+    return res
+
+
+def _middle(GV, gamma) -> np.ndarray:
+    """The motion z of a loose piece that makes the least opening of its faces
+    (gamma + GV z, all >= 0 at z = 0: the solution found is admissible) the
+    largest, no farther than the largest opening: the middle of its opening
+    (a linear program). z = 0 where that fails."""
+    from scipy.optimize import linprog
+
+    k = GV.shape[1]
+    reach = max(float(np.max(gamma, initial=0.0)), 1e-300)
+    colmax = np.maximum(np.max(np.abs(GV), axis=0), 1e-300)
+    # maximise t subject to gamma + GV z >= t, |GV z| <= reach per column scale
+    cost = np.r_[np.zeros(k), -1.0]
+    A = np.c_[-GV, np.ones(len(gamma))]
+    bounds = [(-reach / c, reach / c) for c in colmax] + [(None, None)]
+    out = linprog(cost, A_ub=A, b_ub=gamma, bounds=bounds, method="highs")
+    if out.status != 0 or out.x[-1] < float(np.min(gamma, initial=0.0)):
+        return np.zeros(k)
+    return out.x[:k]
+
+
+def _complement(vt, r) -> np.ndarray:
+    """Rows completing the orthonormal rows vt to a basis of R^r."""
+    q, _ = np.linalg.qr(np.vstack([vt, np.eye(r)]).T)
+    return q[:, len(vt):r].T
 
 
 def _parameters(P: _Problem):
@@ -285,7 +365,9 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
     if states is not None:
         A, T, sign = (np.array(x) for x in states)
     else:
-        A = normal & ((jump0 < target) if active is None else np.asarray(active, bool))
+        # with floating pieces jump0 carries their gauge's arbitrary rigid offset: start them closed
+        start = (jump0 < target) if P.G.shape[1] == 0 else np.ones(m, bool)
+        A = normal & (start if active is None else np.asarray(active, bool))
         T = np.full(m, OPEN, np.int8)
         sign = np.zeros(m)
     C = np.zeros(m, bool)
@@ -405,9 +487,11 @@ def _solve_set(P: _Problem, A, T, sign, C):
     try:
         sol = np.linalg.solve(M, rhs)
     except np.linalg.LinAlgError:
-        if r:
-            return None
-        raise ComputationError(_SINGULAR) from None
+        if not r:
+            raise ComputationError(_SINGULAR) from None
+        # this set's closed pairs leave a piece's motion free: the least-norm amplitudes, and the
+        # iteration goes on (a set it settles on must fix them: _held)
+        sol = np.linalg.lstsq(M, rhs, rcond=None)[0]
     if r and not np.all(np.isfinite(sol)):
         return None
     mu[unknown] = sol[:n]

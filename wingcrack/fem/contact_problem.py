@@ -7,24 +7,66 @@ slip, the converged slip of the Coulomb rows that accept() last took (at
 first: what the previous mesh carried over, contact.slip_history). A solve
 does not move the reference; the critical-load search accepts a solution
 when it becomes its bracket's lower end, so that no solve starts from a
-state further along the load path than its own load."""
+state further along the load path than its own load.
+
+Pieces that only contact holds (wingcrack.floating) are solved through the
+pair problem: u = K_g^-1 (f + B mu) + R alpha on the gauged stiffness,
+their equilibrium R^T (f + B mu) = 0 a condition on mu (contact.friction,
+Rigid); a piece that contact cannot hold fails with its motion named."""
 from __future__ import annotations
 
 import numpy as np
 
-from ..contact.friction import OPEN, SLIP, solve_friction
+from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_friction
+from ..errors import Collapse
 from .pair_operator import PairOperator
 
 
 class ContactProblem:
     """Wraps an ElasticProblem and the constraint rows of its mesh."""
 
-    def __init__(self, problem, rows):
+    def __init__(self, problem, rows, floating=None):
+        """floating: the pieces only contact holds (wingcrack.floating.Floating;
+        their gauge is among the problem's displacement conditions)."""
         self.problem = problem
         self.rows = rows
         self.op = PairOperator(problem, rows) if len(rows) else None
         self.result = None
         self.reference = np.zeros(len(rows))   # s_ref on Coulomb rows
+        self.floating = floating if floating is not None and floating.r else None
+        if self.floating is not None:
+            self.G = self.floating.jumps(rows)
+            self._modes = self._mode_dofs()
+
+    def _mode_dofs(self) -> list:
+        """(owned local scalar dofs, values) of each rigid mode."""
+        fm = self.problem.fm
+        size = fm.V.dofmap.index_map.size_local
+        out = []
+        for nodes, values in zip(self.floating.nodes, self.floating.values):
+            found, blk = fm.block_dofs(nodes)
+            own = found & (blk >= 0) & (blk < size)
+            out.append((np.r_[2 * blk[own], 2 * blk[own] + 1].astype(np.int64),
+                        np.r_[values[own, 0], values[own, 1]]))
+        return out
+
+    def _generalised_loads(self) -> tuple[np.ndarray, np.ndarray]:
+        """(e, the sums of its terms' magnitudes): e = R^T f of the last
+        right-hand side (its gauge entries as assembled, before the gauge
+        set them to zero). Collective."""
+        p = self.problem
+        b = p.b.getArray(readonly=True).copy()
+        b[p.gauge_dofs] = p.b_gauge
+        e = np.array([[float(values @ b[dofs]), float(np.abs(values) @ np.abs(b[dofs]))]
+                      for dofs, values in self._modes]).reshape(-1, 2)
+        e = p.fm.mesh.comm.allreduce(e)
+        return e[:, 0], e[:, 1]
+
+    def _add_rigid(self, u, alpha) -> None:
+        arr = u.vector.getArray()
+        for (dofs, values), a in zip(self._modes, alpha):
+            arr[dofs] += a * values
+        u.x.scatter_forward()
 
     @property
     def has_friction(self) -> bool:
@@ -53,9 +95,15 @@ class ContactProblem:
         jump0 = self.op.jumps(u.vector.getArray())
         slip = rows.slip * p.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
         target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
-        res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active,
-                             start=self.result)   # the last solve's states: the search's next trial starts there
+        rigid = None if self.floating is None else Rigid(self.G, *self._generalised_loads())
+        try:
+            res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active,
+                                 start=self.result, rigid=rigid)   # the last solve's states: the next trial's start
+        except Mechanism as err:
+            raise Collapse(self.floating.describe(err.residual, rows, err.closed)) from None
         self.op.add_forces(u, res.mu)
+        if rigid is not None:
+            self._add_rigid(u, res.alpha)
         self.result = res
         return res
 
@@ -74,6 +122,9 @@ class ContactProblem:
         if getattr(res, "state", None) is not None:
             c = rows.coulomb
             state[rows.pair[c]] = res.state[c]
+        # a pair closed on two normals (fractures met end to end at an angle) cannot move: it is held
+        held = np.bincount(rows.pair[closed], minlength=num_pairs) >= 2
+        state[held] = STICK
         return state
 
     def slip_increments(self, num_pairs: int) -> np.ndarray:

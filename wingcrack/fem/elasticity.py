@@ -273,6 +273,17 @@ class ElasticProblem:
             c = fem.Constant(msh, PETSc.ScalarType(value))
             values.append((c, value))
             bcs.append(fem.dirichletbc(c, dofs, V.sub(comp)))
+        # the gauge of pieces only contact holds (wingcrack.floating): zero, never scaled; b's
+        # entries there are kept before they are set (the pieces' equilibrium needs them)
+        imap = self.fm.V.dofmap.index_map
+        gauge = []
+        for node, comp in loads.gauge:
+            blk = self._node_dofs(node)
+            dofs = (2 * blk + comp).astype(np.int32)
+            bcs.append(fem.dirichletbc(fem.Constant(msh, PETSc.ScalarType(0.0)), dofs, V.sub(comp)))
+            gauge += [int(2 * b + comp) for b in blk if b < imap.size_local]
+        self.gauge_dofs = np.array(gauge, dtype=np.int64)
+        self.b_gauge = np.zeros(len(gauge))
         return bcs, values
 
     def _locate_face_forces(self, forces):
@@ -385,6 +396,8 @@ class ElasticProblem:
             b.getArray()[self._face_dofs] += pressure * self._face_values
         fpetsc.apply_lifting(b, [self.a], bcs=[self.bcs])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        if len(self.gauge_dofs):
+            self.b_gauge = b.getArray(readonly=True)[self.gauge_dofs].copy()
         fpetsc.set_bc(b, self.bcs)
         return b
 

@@ -32,7 +32,7 @@ import numpy as np
 
 import wingcrack_kernels as K
 from .. import step
-from ..errors import ComputationError
+from ..errors import Collapse, ComputationError
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from . import checkpoint, growth, interrupt
 from .critical_load import critical_load_factor, scales_with_load
@@ -286,6 +286,11 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
             status = interrupt.stop_status(err)
             write(status)
             raise
+        except Collapse as err:   # the body cannot carry the load: the end of its loading path, not a failure
+            status = f"stopped: step {k}: the body cannot carry the load: {err}"
+            if records and records[-1].step == k:
+                records.pop()
+            break
         except step.FAILURES as err:
             status = step.failure(k, err)
             if records and records[-1].step == k:   # step k failed in its commit: it did not finish

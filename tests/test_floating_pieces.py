@@ -1,0 +1,139 @@
+"""Pieces of the body that only contact holds (wingcrack.floating), against
+the uncut body's solution and the statics of a sliding block.
+
+(a) A square block cut out of a plate by four fractures meeting end to end
+    at its corners, under hydrostatic compression: the uncut plate's
+    displacement is linear, which P2 elements hold exactly, and it meets
+    every contact condition with all faces closed and no shear on them; so
+    the discrete solution of the cut plate is the uncut one to round-off.
+(b) A strip cut across by one Coulomb fracture whose normal makes the angle
+    beta with the strip's axis; the far piece carries a compressive end
+    traction p and is held by nothing but the fracture. Uncut, the strip is
+    in uniaxial stress: on the fracture sigma_n = -p cos^2 beta, tau = p sin
+    beta cos beta, |tau| / |sigma_n| = tan beta. The piece is held (all pairs
+    stuck, the uncut solution) exactly when tan beta <= friction, and slides
+    along the fracture above.
+The cases are built with the fractures replaced after the case check (the
+check of touching and through-going fractures is the mesher's, tested in
+tests/test_admissibility.py), as tests/test_singular_guard.py does.
+"""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from wingcrack.case import Case
+from wingcrack.errors import ComputationError
+from wingcrack.io.faces import SLIP, STICK
+from wingcrack.step import Timer, discretise
+
+E, NU = 1e10, 0.25
+#: two direct solves (MUMPS on K, a dense one on the pair system) of a system of condition ~1e8 between
+#: them: round-off of the displacement scale is ~1e-13 (measured 7e-14 to 3e-13); a sliding block or a
+#: wrong rigid amplitude is off by the displacement scale itself
+ROUND_OFF = 1e-10
+
+
+def _case(fractures, bc, plane="strain", body=None, size=(2.0, 2.0)):
+    d = {"title": "floating", "material": {"E": E, "nu": NU, "KIc": 1e6, "plane": plane, "density": 2700.0},
+         "domain": {"shape": "rectangle", "corner": [0.0, 0.0], "size": list(size)},
+         "fractures": [{"points": [[0.1 + 0.3 * i, 0.1], [0.2 + 0.3 * i, 0.2]], **f} for i, f in enumerate(fractures)],
+         "bc": bc, "mesh": {"size": 0.2, "tip_size": 0.02}}
+    if body:
+        d["body"] = body
+    return Case.from_dict(d)
+
+
+def _solve(case, polylines):
+    cuts = [replace(f, points=np.asarray(p, float)) for f, p in zip(case.fractures, polylines)]
+    d = discretise(case, cuts, Timer())
+    d.solve(1.0)
+    x = np.asarray(d.cm.x)
+    return d, x, d.problem.nodal_displacements(np.arange(len(x)))
+
+
+def _block(faces, p=1e6, shear=0.0, body=None):
+    fr = {"faces": faces, **({"friction": 0.6} if faces == "coulomb" else {})}
+    bc = [{"on": "top", "traction": [shear, -p]}, {"on": "bottom", "traction": [-shear, p]},
+          {"on": "left", "traction": [p, -shear]}, {"on": "right", "traction": [-p, shear]},
+          {"at": [0.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [2.0, 0.0], "displacement_y": 0.0}]
+    c = [[0.7, 0.7], [1.3, 0.7], [1.3, 1.3], [0.7, 1.3]]
+    return _solve(_case([fr] * 4, bc, body=body), [[c[i], c[(i + 1) % 4]] for i in range(4)])
+
+
+@pytest.mark.parametrize("faces", ["coulomb", "frictionless"])
+def test_a_block_under_hydrostatic_compression_is_the_uncut_plate(faces):
+    d, x, u = _block(faces)
+    assert not d.cm.tips
+    # plane strain, sigma = -p I: eps = -p (1 + nu) (1 - 2 nu) / E in both directions, u = eps x
+    exact = -1e6 * (1 + NU) * (1 - 2 * NU) / E * x
+    assert np.abs(u - exact).max() <= ROUND_OFF * np.abs(exact).max()
+    state, closed = d.pair_states()
+    assert closed.all()
+    if faces == "coulomb":
+        assert np.all(state == STICK)   # no shear on any face: every pair stuck
+    assert d.contact.result.alpha.shape == (3,)   # the block floats: three rigid modes, all fixed
+
+
+def test_a_block_is_held_by_friction_against_its_weight_and_by_interlock_against_shear():
+    d, _, u = _block("coulomb", body={"gravity": [0.0, -9.8]})
+    assert np.all(d.pair_states()[0] == STICK) and np.all(np.isfinite(u))
+    # frictionless faces on four sides hold a square block against a shear of the plate too
+    d, _, u = _block("frictionless", shear=3e5)
+    assert np.any(d.pair_states()[1]) and np.abs(u).max() < 1e-3
+
+
+def test_a_block_whose_faces_all_open_is_loose_and_put_in_the_middle():
+    """Biaxial tension: the cavity opens round the block, which carries no load; its place is not
+    determined by the equations (any place with open faces is a solution): it is put where the least
+    opening of its faces is the largest (the middle of its opening), by a rigid motion."""
+    d, x, u = _block("coulomb", p=-1e5)
+    res = d.contact.result
+    assert res.loose == 3 and not np.any(d.pair_states()[1])
+    inside = np.linalg.norm(x - 1.0, axis=1, ord=np.inf) < 0.3 - 1e-9
+    # the block's displacement is a rigid motion (no load on it, all faces open): a least-squares fit
+    # of a translation and a rotation leaves round-off
+    xi = x[inside] - 1.0
+    A = np.block([[np.ones((len(xi), 1)), np.zeros((len(xi), 1)), -xi[:, 1:2]],
+                  [np.zeros((len(xi), 1)), np.ones((len(xi), 1)), xi[:, 0:1]]])
+    b = np.r_[u[inside, 0], u[inside, 1]]
+    fit = np.linalg.lstsq(A, b, rcond=None)[0]
+    assert np.abs(A @ fit - b).max() <= ROUND_OFF * np.abs(u).max()
+    rows = d.contact.rows
+    w = (res.jump - res.reference)[rows.normal]
+    assert np.all(w > 0)
+    G = d.contact.G[rows.normal]
+    for k in range(3):   # no rigid motion of the block widens its narrowest opening
+        for step in (-0.01, 0.01):
+            moved = w + step * np.mean(w) * G[:, k] / np.abs(G[:, k]).max()
+            assert np.min(moved) <= np.min(w) * (1 + 1e-9)
+
+
+def _strip(beta_deg, friction, p=1e6):
+    bc = [{"on": "left", "displacement_x": 0.0}, {"at": [0.0, 0.0], "displacement_y": 0.0},
+          {"on": "right", "traction": [-p, 0.0]}]
+    case = _case([{"faces": "coulomb", "friction": friction}], bc, plane="stress", size=(2.0, 0.5))
+    t = 0.25 * np.tan(np.radians(beta_deg))
+    return _solve(case, [[[1.0 + t, 0.0], [1.0 - t, 0.5]]])
+
+
+@pytest.mark.parametrize("offset", [-1.0, -0.1])
+def test_a_strip_cut_across_is_held_below_the_friction_angle(offset):
+    friction = 0.6
+    beta = np.degrees(np.arctan(friction)) + offset
+    d, x, u = _strip(beta, friction)
+    exact = np.c_[-1e6 / E * x[:, 0], NU * 1e6 / E * x[:, 1]]   # plane stress, sigma_xx = -p
+    assert np.abs(u - exact).max() <= ROUND_OFF * np.abs(exact).max()
+    assert np.all(d.pair_states()[0] == STICK)
+
+
+@pytest.mark.parametrize("offset", [0.1, 1.0])
+def test_a_strip_cut_across_slides_above_the_friction_angle(offset):
+    friction = 0.6
+    with pytest.raises(ComputationError, match=r"the piece around \(1\.4\d*, 0\.25\) slides along fracture 0"):
+        _strip(np.degrees(np.arctan(friction)) + offset, friction)
+
+
+def test_a_strip_pulled_at_its_end_is_pulled_away_from_the_fracture():
+    with pytest.raises(ComputationError, match=r"the piece around \(1\.4\d*, 0\.25\) is pulled away from its faces"):
+        _strip(20.0, 0.6, p=-1e6)
