@@ -5,8 +5,8 @@ differ by more than 1 % of the tip's own K and by more than 0.5 % of the
 step's K scale (the larger of KIc and the step's largest K). The second
 condition spares the closed and shielded tips, whose K is round-off or a
 small fraction of the scale: there both methods carry their usual absolute
-error (a fraction of the scale) and "differ by 100 % of K"; such a tip
-cannot grow on its K. A disagreement that matters still warns, and a result
+error (a fraction of the scale) and "differ by 100 % of K"; such a tip is
+far from growth. A disagreement that matters still warns, and a result
 says it once, however many steps.
 
 The tip records are built here (TipSIF's fields), the thresholds computed

@@ -41,11 +41,11 @@ SIF_AGREEMENT = 0.01
 #: and M 0.04 % of s sqrt(pi a); on a closed crack |KI| < 5e-3 of it), so at
 #: a closed or shielded tip whose K is round-off or a small fraction of the
 #: scale they differ by "100 % of K" while each is as accurate as anywhere.
-#: Such a tip cannot grow on its K: K_eq <= 1.3 K (the MTS criterion's
-#: largest ratio, at KII/KI = -sqrt(3)) < 0.65 KIc; it would take a
-#: disagreement of 0.35 KIc, 70 times the floor of 0.5 % of the scale, to
-#: change that, and that still warns. At a tip above the floor the rule is
-#: 1 % of its own K, as it was.
+#: Such a tip is far from growth: K_eq <= 1.3 K (the MTS criterion's
+#: largest ratio, at KII/KI = -sqrt(3)) < 0.65 of the scale, KIc where the
+#: step is critical; it would take a disagreement of 0.35 KIc, 70 times the
+#: floor of 0.5 % of the scale, to change that, and that still warns. At a
+#: tip above the floor the rule is 1 % of its own K.
 SIF_FLOOR = 0.5
 #: a tip "reached" KIc in a static solve (sif): K_eq >= KIc (1 - this)
 STATIC_RTOL = 1e-9
