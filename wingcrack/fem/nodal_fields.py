@@ -59,8 +59,9 @@ def local_tip_stress(problem, tip_nodes) -> tuple[np.ndarray, np.ndarray, np.nda
     node = fm.original[vertices[cells, corner]]
     total = np.zeros((len(tip_nodes), 3))
     count = np.zeros(len(tip_nodes))
+    # on every rank, with tip cells or none: the first compilation is collective (DOLFINx's JIT)
+    expr = compiled.expression(_stress_components(problem), NEAR_VERTEX, ("nodal_fields.tip_stress",))
     if len(cells):
-        expr = compiled.expression(_stress_components(problem), NEAR_VERTEX, ("nodal_fields.tip_stress",))
         values = expr.eval(cells.astype(np.int32)).reshape(len(cells), 3, 3)[np.arange(len(cells)), corner]
         at = np.searchsorted(tip_nodes, node)
         np.add.at(total, at, values)
