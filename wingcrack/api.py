@@ -127,7 +127,8 @@ def _sif(case, out, force) -> SifResult:
     timer = step.Timer()
     try:
         sol = step.solve_initial(case, timer)
-        record = step.finish(out, 0, 1.0, sol, sol.tips, timer, states=step.static_states(sol.tips, case.material.KIc))
+        record = step.finish(out, 0, 1.0, sol, sol.tips, timer, states=step.static_states(sol.tips, case.material.KIc),
+                             KIc=case.material.KIc)
     except step.FAILURES as err:
         status = step.failure(0, err)
         write(step.summary(case, status, [], pieces))

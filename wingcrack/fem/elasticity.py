@@ -245,12 +245,13 @@ class ElasticProblem:
 
         return nodal_displacements(self.fm, self.u, nodes)
 
-    def nodal_fields(self, num_nodes: int) -> dict | None:
+    def nodal_fields(self, num_nodes: int, tip_nodes=()) -> dict | None:
         """Displacement, total stress and von Mises stress by CrackMesh node
-        (fem.nodal_fields) on rank 0, None elsewhere. Collective."""
+        (fem.nodal_fields; at the `tip_nodes`, where the stress is singular,
+        its convention) on rank 0, None elsewhere. Collective."""
         from .nodal_fields import nodal_fields
 
-        return nodal_fields(self, num_nodes)
+        return nodal_fields(self, num_nodes, tip_nodes)
 
     # -- boundary conditions ----------------------------------------------
     def _node_dofs(self, node: int) -> np.ndarray:

@@ -42,8 +42,9 @@ def animation_format() -> str:
 
 def colour_range(von_mises: list) -> tuple[float, float]:
     """(vmin, vmax) of the run's logarithmic colour scale (Pa). Non-finite
-    values (a crack-tip node, where the stress is singular, may hold NaN)
-    are left out."""
+    values are left out: the step files of this version hold none, those of
+    earlier ones NaN at the crack-tip nodes, which `wingcrack plot` still
+    draws."""
     positive = [v[np.isfinite(v) & (v > 0)] for v in von_mises]
     positive = [v for v in positive if len(v)]
     if not positive:

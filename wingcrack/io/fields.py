@@ -4,6 +4,12 @@ which ParaView treats as a tensor: sxx, sxy, 0, sxy, syy, 0, 0, 0, 0; the
 out-of-plane stress is not computed and is written as 0) and the von Mises
 stress of the in-plane components.
 
+The stress is singular at a crack tip (1/sqrt(r)): what a tip node holds is
+a convention, finite (fem/nodal_fields.py): the mean over the tip's rosette
+cells of the stress at each cell's Gauss point nearest the tip (about h/9
+from it, h the rosette radius). Every value written is finite (io/vtu.py
+refuses a file with a NaN or inf).
+
 DOLFINx 0.5's XDMF writer pulls mesh nodes back to the reference cell with a
 Newton iteration, which cannot converge in quarter-point cells (their
 Jacobian vanishes at the tip); writing the CrackMesh nodes directly avoids
@@ -48,4 +54,4 @@ def write_fields(path: Path, problem, cm, field_data: dict | None = None) -> Pat
     """write_field_arrays of the solution of `problem` (an
     fem.elasticity.ElasticProblem: its nodal_fields gathers them).
     Collective; rank 0 writes."""
-    return write_field_arrays(path, cm, problem.nodal_fields(len(cm.x)), field_data)
+    return write_field_arrays(path, cm, problem.nodal_fields(len(cm.x), [t.node for t in cm.tips]), field_data)

@@ -16,6 +16,11 @@ VTK's vtkZLibDataCompressor reads it. The streams are deflated by ISA-L
 (FAST): the bytes differ from meshio's (zlib level 6), the data they
 inflate to do not.
 
+Every number of a file is finite: a NaN or inf in the points, a point or
+cell array or the field data is a bug upstream, and vtu_chunks raises
+(ValueError naming the array) before the first byte, so no such file is
+written.
+
 The file is written to a temporary name in the same folder, synced and
 renamed (io/atomic.py): a run stopped while writing leaves no half file
 under the step's name.
@@ -83,6 +88,32 @@ def _data_array(name: str, data: np.ndarray, level: int | None) -> tuple[bytes, 
     return head, encode(data, level), b"\n</DataArray>\n"
 
 
+def require_finite(name: str, data) -> None:
+    """ValueError when the array `data` (called `name` in the file) holds a
+    NaN or inf: how many of its rows, and the first."""
+    data = np.atleast_1d(np.asarray(data))
+    if data.dtype.kind != "f":
+        return   # integers are finite
+    finite = np.isfinite(data)
+    bad = ~finite.all(axis=tuple(range(1, finite.ndim)))   # per entry (row)
+    if bad.any():
+        rows = np.flatnonzero(bad)
+        raise ValueError(f"{name} is not finite at {len(rows)} of {len(bad)} entries (the first: {rows[0]}, "
+                         f"{data[rows[0]]}): a VTU file is written only with finite values")
+
+
+def all_finite(points, point_data: dict | None, cell_data: dict | None, field_data: dict | None) -> None:
+    """require_finite of every number a VTU file of these would hold."""
+    require_finite("Points", points)
+    for name, data in (point_data or {}).items():
+        require_finite(f"point data {name!r}", data)
+    for name, data in (cell_data or {}).items():
+        for block in data:
+            require_finite(f"cell data {name!r}", block)
+    for name, value in (field_data or {}).items():
+        require_finite(f"field data {name!r}", np.array([float(value)]))
+
+
 def vtu_chunks(points: np.ndarray, cells: list, point_data: dict, cell_data: dict | None = None,
                field_data: dict | None = None, level: int | None = None):
     """The text of a VTU file, in pieces (a generator: one array is encoded
@@ -95,6 +126,7 @@ def vtu_chunks(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
     if points.ndim != 2 or points.shape[1] != 3:
         raise ValueError(f"points must be (n, 3), not {points.shape}")
     blocks = [(kind, np.asarray(c)) for kind, c in cells]
+    all_finite(points, point_data, cell_data, field_data)
     yield (b"<?xml version='1.0' encoding='utf-8'?>\n"
            b'<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian" '
            b'compressor="vtkZLibDataCompressor">\n'
@@ -136,5 +168,10 @@ def vtu_chunks(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
 def write_vtu(path, points, cells: list, point_data: dict, cell_data: dict | None = None,
               field_data: dict | None = None, level: int | None = None) -> Path:
     """Write the VTU file `path` of vtu_chunks(...) atomically, each array
-    as it is encoded."""
+    as it is encoded; ValueError, naming the file and the array, and no
+    file when a value is not finite."""
+    try:
+        all_finite(points, point_data, cell_data, field_data)
+    except ValueError as err:
+        raise ValueError(f"{Path(path).name}: {err}") from None
     return write_atomic(path, vtu_chunks(points, cells, point_data, cell_data, field_data, level))

@@ -246,7 +246,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
             if prop.load == "fixed" and not growth.reached(candidates, rule).any():
                 # the solved step is a result too: recorded with its files, no growth
                 status = "stopped: no tip reaches KIc under the fixed load"
-                records.append(step.finish(out, k, lam, disc, tips, timer, solves=1))
+                records.append(step.finish(out, k, lam, disc, tips, timer, solves=1, KIc=case.material.KIc))
                 shown = disc
                 break
             grown = growth.grow(fset, candidates, len(tips), rule, case.domain)
@@ -256,7 +256,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 # nothing moved: the next step would be this one again. Recorded (not
                 # checkpointed: a resumed run solves it again and stops the same way)
                 status = f"stopped: no tip can grow ({grown.why_none()})"
-                records.append(step.finish(out, k, lam, disc, tips, timer, solves=solves))
+                records.append(step.finish(out, k, lam, disc, tips, timer, solves=solves, KIc=case.material.KIc))
                 shown = disc
                 break
             if case.mesh.adaptive:
@@ -271,7 +271,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                                                     patch=patch)
                 timer.lap("mesh")
             record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
-                                   states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
+                                   states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips],
+                                   KIc=case.material.KIc)
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
                 shown = disc
