@@ -239,12 +239,16 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
     if not coulomb.any() and r == 0:
         return solve_active_set(S, jump0, target, normal, active=active)
     P = _Problem.of(S, jump0, target, normal, ~normal & ~coulomb, law, rigid)
+    if r:
+        res = _loose_first(P, max_iter, active, start)
+        if res is not None:
+            return res
     cn, ct = _parameters(P)
     history = []
     if getattr(start, "state", None) is not None and len(start.mu) == len(P.jump0):
         res = _active_set(P, cn, ct, max_iter, history, states=_start_states(start, P))
         if res is not None:
-            return res
+            return _held(P, res)
     for k in SCALINGS:
         res = _active_set(P, cn * k, ct * k, max_iter, history, active)
         if res is not None:
@@ -318,6 +322,87 @@ def _middle(GV, gamma) -> np.ndarray:
     return out.x[:k]
 
 
+def _balanced(P: _Problem, mu) -> bool:
+    """Whether the pieces' equilibrium G^T mu + e = 0 holds to round-off."""
+    terms = np.abs(P.G).T @ np.abs(mu) + (np.abs(P.e) if P.e_scale is None else P.e_scale)
+    return bool(np.all(np.abs(P.G.T @ mu + P.e) <= RESIDUAL_RTOL * np.maximum(terms, 1e-300)))
+
+
+def _loose_first(P: _Problem, max_iter, active, start) -> FrictionResult | None:
+    """The answer where the pieces that no load drives are loose: their
+    faces' rows carry nothing, the rest is solved without them, and each is
+    put in the middle of its opening; None where one would then penetrate a
+    face (it touches: the whole problem is solved), or where there are no
+    such pieces. (Left in the whole problem, a loose piece's place is free,
+    and the semi-smooth Newton iteration wanders with it: the stimulation
+    network's pressurised block, 22 state sets without settling.)"""
+    G, e = P.G, P.e
+    if P.e_scale is None:
+        return None
+    r = G.shape[1]
+    touches = G != 0
+    # the pieces: modes that share rows (a pair between two pieces couples them)
+    group = np.arange(r)
+    for i in range(r):
+        for j in range(i + 1, r):
+            if np.any(touches[:, i] & touches[:, j]):
+                group[group == group[j]] = group[i]
+    loose_cols = np.zeros(r, bool)
+    for g in np.unique(group):
+        cols = group == g
+        if np.all(np.abs(e[cols]) <= UNLOADED_RTOL * np.maximum(P.e_scale[cols], 1e-300)):
+            loose_cols |= cols
+    if not loose_cols.any():
+        return None
+    law = P.law
+    partner = np.asarray(law.partner, np.int64)
+    gone = np.any(touches[:, loose_cols], axis=1)
+    c = np.flatnonzero(law.coulomb)
+    both = gone[c] | gone[partner[c]]
+    gone[c[both]] = gone[partner[c[both]]] = True
+    keep = np.flatnonzero(~gone)
+    index = np.full(len(gone), -1, np.int64)
+    index[keep] = np.arange(len(keep))
+    sub_law = FrictionRows(law.coulomb[keep], np.where(partner[keep] >= 0, index[np.maximum(partner[keep], 0)], -1),
+                           law.friction[keep], law.cohesion_force[keep])
+    rest = np.flatnonzero(~loose_cols)
+    rigid = Rigid(G[np.ix_(keep, rest)], e[rest], P.e_scale[rest]) if len(rest) else None
+    sub_start = None
+    if getattr(start, "state", None) is not None and len(start.mu) == len(gone):
+        sub_start = FrictionResult(start.mu[keep], start.jump[keep], start.active[keep], 0, [], start.jump0[keep],
+                                   state=start.state[keep], reference=start.reference[keep], law=sub_law,
+                                   cohesive=None if start.cohesive is None else start.cohesive[keep])
+    sub = solve_friction(P.S[np.ix_(keep, keep)], P.jump0[keep], P.target[keep], P.normal[keep], sub_law, max_iter,
+                         None if active is None else np.asarray(active, bool)[keep], sub_start, rigid)
+    m = len(gone)
+    mu = np.zeros(m)
+    mu[keep] = sub.mu
+    alpha = np.zeros(r)
+    if len(rest):
+        alpha[rest] = getattr(sub, "alpha", np.zeros(len(rest)))
+    jump = P.jump0 + P.S @ mu + G @ alpha
+    rows = gone & P.normal
+    GV = G[np.ix_(rows, loose_cols)]
+    gamma = (jump - P.target)[rows]
+    z = _middle(GV, gamma - float(np.min(gamma, initial=0.0)))   # the best place, from where they stand
+    after = gamma + GV @ z
+    if np.min(after, initial=0.0) < 0.0:
+        return None   # it would penetrate: it touches somewhere
+    alpha[loose_cols] += z
+    jump = P.jump0 + P.S @ mu + G @ alpha
+    A = np.zeros(m, bool)
+    A[keep] = sub.active
+    T = np.full(m, OPEN, np.int8)
+    C = np.zeros(m, bool)
+    if getattr(sub, "state", None) is not None:
+        T[keep] = sub.state
+        C[keep] = sub.cohesive
+    res = _result(P, mu, alpha, jump, A & P.normal, T, C, list(sub.history), fallback=bool(sub.fallback),
+                  iterations=int(sub.iterations), broken=int(getattr(sub, "broken", 0)))
+    res.loose = int(loose_cols.sum()) + int(getattr(sub, "loose", 0))
+    return res
+
+
 def _complement(vt, r) -> np.ndarray:
     """Rows completing the orthonormal rows vt to a basis of R^r."""
     q, _ = np.linalg.qr(np.vstack([vt, np.eye(r)]).T)
@@ -376,11 +461,13 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
         T[ci] = np.where(A[pi] | (C[ci] & (b0[ci] > 0)), STICK, OPEN)
     seen = {_key(A, T, sign, C)}
     load = max(np.max(np.abs(target - jump0), initial=0.0), 1e-300)
+    alpha_last = None
     for it in range(1, max_iter + 1):
-        sol = _solve_set(P, A, T, sign, C)
+        sol = _solve_set(P, A, T, sign, C, alpha_last)
         if sol is None:
             return None
         mu, alpha = sol
+        alpha_last = alpha
         jump = jump0 + S @ mu + P.G @ alpha
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction iteration")
@@ -410,6 +497,8 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
                 np.array_equal(C_new, C):
             eq = A | P.prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
+            if P.G.shape[1] and not _balanced(P, mu):
+                return None   # a least-squares set (a piece its closed pairs leave free) that no force balances
             if res <= RESIDUAL_RTOL * max(load, np.max(np.abs(jump), initial=0.0)):
                 return _result(P, mu, alpha, jump, A, T, C, history, fallback=fixed)
             return None
@@ -453,7 +542,7 @@ def _key(A, T, sign, C) -> bytes:
     return A.tobytes() + T.tobytes() + np.sign(sign).astype(np.int8).tobytes() + C.tobytes()
 
 
-def _solve_set(P: _Problem, A, T, sign, C):
+def _solve_set(P: _Problem, A, T, sign, C, alpha_last=None):
     """(mu, alpha) of one state set: jump = target on contact normal,
     prescribed and sticking rows; mu_t = -sign (b0 [cohesive] + f mu_n) on
     slipping rows; mu = 0 on open ones; the pieces' equilibrium G^T mu + e
@@ -489,9 +578,11 @@ def _solve_set(P: _Problem, A, T, sign, C):
     except np.linalg.LinAlgError:
         if not r:
             raise ComputationError(_SINGULAR) from None
-        # this set's closed pairs leave a piece's motion free: the least-norm amplitudes, and the
-        # iteration goes on (a set it settles on must fix them: _held)
-        sol = np.linalg.lstsq(M, rhs, rcond=None)[0]
+        # this set's closed pairs leave a piece's motion free: the amplitudes nearest the last
+        # iterate's, and the iteration goes on (a set it settles on must fix them or the motion be
+        # unloaded: _held)
+        last = np.r_[np.zeros(n), np.zeros(r) if alpha_last is None else alpha_last]
+        sol = last + np.linalg.lstsq(M, rhs - M @ last, rcond=None)[0]
     if r and not np.all(np.isfinite(sol)):
         return None
     mu[unknown] = sol[:n]
