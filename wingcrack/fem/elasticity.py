@@ -87,7 +87,11 @@ class ElasticProblem:
             c = fem.Constant(msh, np.array([tx, ty], dtype=PETSc.ScalarType))
             self._traction_values.append(c)
             L += self.load_factor * ufl.inner(c, v) * ds(int(tag))
-        self.L = compiled.form(L, ("elasticity.load",))
+        # the recipe names the tags in the order their traction constants enter: the layout lists the
+        # integrals by tag, not which constant each takes (tractions on other edges in another order
+        # shared one compiled form and took each other's values)
+        self.L = compiled.form(L, ("elasticity.load", tuple(int(t) for t, _, _ in loads.tractions),
+                                   tuple(int(t) for t in loads.outer_tags)))
 
         self.bcs, self._bc_values = self._dirichlet(loads)
         self._point_forces = self._locate_point_forces(loads.point_forces)
