@@ -25,10 +25,11 @@ def test_kkt_and_initial_guess(path):
         assert value < 1e-8, (name, value)
     if rows.coulomb.any():
         # the friction law to the same 1e-8, and the second method (the fixed point of Tresca
-        # problems by bounded least squares; no cohesion: one solution) gives the same forces
+        # problems; without cohesion there is one solution) gives the same forces
         for name, value in res.friction_residuals(rows.weight).items():
             assert value < 1e-8, (name, value)
-        assert not rows.cohesion.any()
+        if rows.cohesion.any():
+            return   # cohesion: a pair may touch and hold c or be open, both lawful (tests/test_friction_solver.py)
         other = fixed_point_solve(op.S, res.jump0, res.reference, rows.normal, ~rows.normal & ~rows.coulomb,
                              rows.friction_law(), [])
         np.testing.assert_array_equal(other.state, res.state)

@@ -546,8 +546,11 @@ def _solve_set(P: _Problem, A, T, sign, C, alpha_last=None):
     """(mu, alpha) of one state set: jump = target on contact normal,
     prescribed and sticking rows; mu_t = -sign (b0 [cohesive] + f mu_n) on
     slipping rows; mu = 0 on open ones; the pieces' equilibrium G^T mu + e
-    = 0. None where that system is singular with floating pieces (this set
-    of closed pairs cannot hold one)."""
+    = 0. The slipping rows' forces follow from their normal rows', so they
+    are eliminated: one dense solve on the equality rows (and the pieces'
+    amplitudes) only. Where that system is singular with floating pieces
+    (this set's closed pairs leave a piece free), the amplitudes nearest the
+    last iterate's."""
     S, normal, law = P.S, P.normal, P.law
     partner, f, b0 = law.partner, law.friction, law.cohesion_force
     m = len(P.jump0)
@@ -555,37 +558,53 @@ def _solve_set(P: _Problem, A, T, sign, C, alpha_last=None):
     mu = np.zeros(m)
     eq = np.flatnonzero((normal & A) | P.prescribed | (T == STICK))
     sl = np.flatnonzero(T == SLIP)
-    unknown = np.r_[eq, sl]
-    if len(unknown) == 0 and r == 0:
+    if len(eq) + len(sl) == 0 and r == 0:
         return mu, np.zeros(0)
-    col = {int(j): k for k, j in enumerate(unknown)}
-    n = len(unknown)
+    n = len(eq)
+    # mu_sl = c_sl + D mu_eq: D has -sign f at the column of the slipping row's normal row (if it is an
+    # equality row; else the pair touches without a normal force, mu_n = 0)
+    col = np.full(m, -1, np.int64)
+    col[eq] = np.arange(n)
+    c_sl = -sign[sl] * np.where(C[sl], b0[sl], 0.0)
+    pcol = col[partner[sl]] if len(sl) else np.zeros(0, np.int64)
+    coef = np.where(pcol >= 0, -sign[sl] * f[sl], 0.0)
     M = np.zeros((n + r, n + r))
     rhs = np.zeros(n + r)
-    M[:len(eq), :n] = S[np.ix_(eq, unknown)]
-    M[:len(eq), n:] = P.G[eq]
-    rhs[:len(eq)] = P.target[eq] - P.jump0[eq]
-    for k, j in enumerate(sl, start=len(eq)):
-        M[k, k] = 1.0
-        if int(partner[j]) in col:   # else the pair touches without a normal force: mu_n = 0
-            M[k, col[int(partner[j])]] = sign[j] * f[j]
-        rhs[k] = -sign[j] * (b0[j] if C[j] else 0.0)
+    M[:n, :n] = S[np.ix_(eq, eq)]
+    if len(sl):
+        S_es = S[np.ix_(eq, sl)]
+        with_p = pcol >= 0
+        np.add.at(M[:n, :n].T, pcol[with_p], (S_es[:, with_p] * coef[with_p]).T)
+        rhs[:n] = P.target[eq] - P.jump0[eq] - S_es @ c_sl
+    else:
+        rhs[:n] = P.target[eq] - P.jump0[eq]
     if r:
-        M[n:, :n] = P.G[unknown].T
-        rhs[n:] = -P.e
-    try:
-        sol = np.linalg.solve(M, rhs)
-    except np.linalg.LinAlgError:
-        if not r:
-            raise ComputationError(_SINGULAR) from None
-        # this set's closed pairs leave a piece's motion free: the amplitudes nearest the last
-        # iterate's, and the iteration goes on (a set it settles on must fix them or the motion be
-        # unloaded: _held)
-        last = np.r_[np.zeros(n), np.zeros(r) if alpha_last is None else alpha_last]
-        sol = last + np.linalg.lstsq(M, rhs - M @ last, rcond=None)[0]
+        M[:n, n:] = P.G[eq]
+        M[n:, :n] = P.G[eq].T
+        if len(sl):
+            Gs = P.G[sl]
+            with_p = pcol >= 0
+            np.add.at(M[n:, :n].T, pcol[with_p], Gs[with_p] * coef[with_p, None])
+            rhs[n:] = -P.e - Gs.T @ c_sl
+        else:
+            rhs[n:] = -P.e
+    sol = np.zeros(0)
+    if n + r:
+        try:
+            sol = np.linalg.solve(M, rhs)
+        except np.linalg.LinAlgError:
+            if not r:
+                raise ComputationError(_SINGULAR) from None
+            # this set's closed pairs leave a piece's motion free: the amplitudes nearest the last
+            # iterate's, and the iteration goes on (a set it settles on must fix them or the motion be
+            # unloaded: _held)
+            last = np.r_[np.zeros(n), np.zeros(r) if alpha_last is None else alpha_last]
+            sol = last + np.linalg.lstsq(M, rhs - M @ last, rcond=None)[0]
     if r and not np.all(np.isfinite(sol)):
         return None
-    mu[unknown] = sol[:n]
+    mu[eq] = sol[:n]
+    if len(sl):
+        mu[sl] = c_sl + coef * (sol[np.maximum(pcol, 0)] if n else 0.0)
     return mu, sol[n:]
 
 
