@@ -167,9 +167,11 @@ def test_bad_case_under_mpirun_says_it_once(tmp_path):
 
 
 def test_a_failure_on_two_ranks_is_raised_on_both(tmp_path):
-    """A free piece (singular stiffness, tests/test_singular_guard.py): every
-    rank raises the same ComputationError; none waits forever in a
-    collective call (the timeout would fail the test)."""
+    """A free piece (singular stiffness, tests/test_singular_guard.py) and a
+    piece that only frictionless contact holds, which slides (a mechanism,
+    tests/test_floating_pieces.py): every rank raises the same
+    ComputationError; none waits forever in a collective call (the timeout
+    would fail the test)."""
     script = tmp_path / "free.py"
     script.write_text(f"""
 import sys
@@ -180,23 +182,24 @@ from mpi4py import MPI
 from test_singular_guard import plate
 from wingcrack.step import Timer, discretise
 from wingcrack.errors import ComputationError
-case = plate("frictionless", False)
-cut = replace(case.fractures[0], points=np.array([[0.0, 0.5], [1.0, 0.5]]))
-try:
-    d = discretise(case, [cut], Timer())
-    cm, problem, contact = d.cm, d.problem, d.contact
-    contact.solve(1.0)
-    outcome = "solved"
-except ComputationError as err:
-    outcome = "raised " + str("singular" in str(err))
-outcomes = MPI.COMM_WORLD.gather(outcome, root=0)   # one printer: ranks' prints interleave
+outcomes = []
+for faces, says in (("open", "singular"), ("frictionless", "slides along fracture 0")):
+    case = plate(faces, 0)
+    cut = replace(case.fractures[0], points=np.array([[0.0, 0.5], [1.0, 0.5]]))
+    try:
+        d = discretise(case, [cut], Timer())
+        d.contact.solve(1.0)
+        outcomes.append("solved")
+    except ComputationError as err:
+        outcomes.append("raised " + str(says in str(err)))
+outcomes = MPI.COMM_WORLD.gather(outcomes, root=0)   # one printer: ranks' prints interleave
 if MPI.COMM_WORLD.rank == 0:
-    print(outcomes)
+    print([o for rank in outcomes for o in rank])
 """)
     proc = subprocess.run([MPIRUN, "-n", "2", sys.executable, str(script)], capture_output=True, text=True,
                           env=mpi_env(), timeout=300)
     assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.strip().splitlines()[-1] == "['raised True', 'raised True']", proc.stdout
+    assert proc.stdout.strip().splitlines()[-1] == str(["raised True"] * 4), proc.stdout
 
 
 def test_api_run_then_sif_in_one_script_on_two_ranks(tmp_path):
