@@ -49,6 +49,10 @@ SIF_AGREEMENT = 0.01
 SIF_FLOOR = 0.5
 #: a tip "reached" KIc in a static solve (sif): K_eq >= KIc (1 - this)
 STATIC_RTOL = 1e-9
+#: pair systems of more rows than this are solved as sparse saddle-point systems (fem.pair_saddle):
+#: the dense route's pair compliance (m^2 numbers) and MUMPS's dense Schur complement on the pair dofs
+#: (4 dofs a pair) grow with the square of the pairs, 0.8 GB at this size
+DENSE_ROWS = 5000
 #: what ends a computation with "failed: <reason>" (every finished step kept)
 FAILURES = (ComputationError, RuntimeError, ValueError, np.linalg.LinAlgError)
 
@@ -226,6 +230,8 @@ class Discretisation:
     def release(self) -> None:
         """Free the MUMPS factors now (tens of MB a step)."""
         self.problem.destroy()
+        if getattr(self.contact, "saddle", None) is not None:
+            self.contact.saddle.destroy()
 
 
 @dataclass
@@ -359,8 +365,12 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     loads = case_loads(case, cm, fractures)
     rows = constraint_rows(cm, fractures)
     floating = floating_pieces(cm, loads, rows, free_pieces(cm, loads))
+    saddle = len(rows) > DENSE_ROWS
+    if saddle and floating is not None:
+        raise ComputationError(f"pieces that only contact holds in a pair system of {len(rows)} rows: their rigid "
+                               f"modes need the dense pair problem, which holds at most {DENSE_ROWS} rows")
     timer.lap("assemble")
-    if far is not None and (floating is not None or not far.matches(cm)):
+    if far is not None and (floating is not None or saddle or not far.matches(cm)):
         far = None   # the patch moved on, or a gauge changed its supports (the caller destroys the old one)
     timer.lap("patch")
     # with the far field kept, K is assembled where the reduced factorisation reads it only
@@ -368,18 +378,18 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
                              far_interior=None if far is None else far.interior_of(cm))
     timer.lap("assemble")
     started = False
-    if far is None and cm.far is not None and floating is None:
+    if far is None and cm.far is not None and floating is None and not saddle:
         far = FarField.start(problem, cm)
         started = far is not None
     timer.lap("patch")
-    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None, far=far)
+    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) and not saddle else None, far=far)
     timer.lap("factorize")
     if far is not None and not problem.reused_far:   # other supports in the far field: factorised whole
         if started:
             far.destroy()
         far = None
     cm.stats["far_field"] = None if far is None else ("factorised" if started else "reused")
-    contact = ContactProblem(problem, rows, floating)
+    contact = ContactProblem(problem, rows, floating, saddle=saddle)
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")

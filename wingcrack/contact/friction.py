@@ -200,6 +200,9 @@ class _Problem:
     e: np.ndarray      # (r,)
     touch: float
     e_scale: np.ndarray = None   # (r,)
+    #: the solve of one state set, where S is not at hand (fem.pair_saddle): (A, T, sign, C) -> (mu, jump)
+    solve: object = None
+    c0: float = None   # the complementarity parameters' scale without S (N/m per m)
 
     @classmethod
     def of(cls, S, jump0, target, normal, prescribed, law, rigid):
@@ -207,7 +210,7 @@ class _Problem:
         r = 0 if rigid is None else int(np.shape(rigid.G)[1])
         jump0, target = np.asarray(jump0, float), np.asarray(target, float)
         scale = max(float(np.max(np.abs(jump0), initial=0.0)), float(np.max(np.abs(target), initial=0.0)), 1e-300)
-        return cls(np.asarray(S, float), jump0, target, np.asarray(normal, bool), np.asarray(prescribed, bool), law,
+        return cls(None if S is None else np.asarray(S, float), jump0, target, np.asarray(normal, bool), np.asarray(prescribed, bool), law,
                    np.zeros((m, 0)) if r == 0 else np.asarray(rigid.G, float),
                    np.zeros(0) if r == 0 else np.asarray(rigid.e, float), TOUCH_RTOL * scale,
                    None if r == 0 or rigid.e_scale is None else np.asarray(rigid.e_scale, float))
@@ -254,6 +257,30 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
         if res is not None:
             return _held(P, res)
     return _held(P, _fallback(P, history, max_iter))
+
+
+def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, max_iter: int = MAX_ITERATIONS,
+                  active=None, start: FrictionResult | None = None) -> FrictionResult:
+    """The contact problem where each state set is solved by `solve(A, T,
+    sign, C) -> (mu, jump)` (fem.pair_saddle: the elasticity whole, no
+    dense compliance), with the complementarity parameters c0: the same
+    three-state iteration, its scalings and its start. No dense fallback:
+    where every attempt cycles, ComputationError."""
+    normal = np.asarray(normal, bool)
+    coulomb = np.asarray(law.coulomb, bool)
+    P = _Problem.of(None, jump0, target, normal, ~normal & ~coulomb, law, None)
+    P.solve, P.c0 = solve, float(c0)
+    history = []
+    if getattr(start, "state", None) is not None and len(start.mu) == len(P.jump0):
+        res = _active_set(P, P.c0, P.c0, max_iter, history, states=_start_states(start, P))
+        if res is not None:
+            return res
+    for k in SCALINGS:
+        res = _active_set(P, P.c0 * k, P.c0 * k, max_iter, history, active)
+        if res is not None:
+            return res
+    raise ComputationError(f"contact: the active set cycles on a pair system of {len(P.jump0)} rows, above the "
+                           f"size of its dense fallback")
 
 
 #: the rigid modes' jumps on the rows that hold (closed normal, sticking, prescribed) determine the
@@ -411,6 +438,8 @@ def _complement(vt, r) -> np.ndarray:
 
 def _parameters(P: _Problem):
     """(c_n, c_t): turn a jump (m) into a force (N/m): the inverse mean compliance of the rows."""
+    if P.S is None:
+        return P.c0, P.c0
     diag = np.abs(np.diag(P.S))
     coulomb = np.asarray(P.law.coulomb, bool)
     cn = 1.0 / np.mean(diag[P.normal]) if P.normal.any() else 1.0 / np.mean(diag)
@@ -463,12 +492,16 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
     load = max(np.max(np.abs(target - jump0), initial=0.0), 1e-300)
     alpha_last = None
     for it in range(1, max_iter + 1):
-        sol = _solve_set(P, A, T, sign, C, alpha_last)
-        if sol is None:
-            return None
-        mu, alpha = sol
-        alpha_last = alpha
-        jump = jump0 + S @ mu + P.G @ alpha
+        if P.solve is not None:
+            mu, jump = P.solve(A, T, sign, C)
+            alpha = np.zeros(0)
+        else:
+            sol = _solve_set(P, A, T, sign, C, alpha_last)
+            if sol is None:
+                return None
+            mu, alpha = sol
+            alpha_last = alpha
+            jump = jump0 + S @ mu + P.G @ alpha
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction iteration")
         history.append(int(A.sum()))

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_friction
+from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_by_sets, solve_friction
 from ..errors import Collapse
 from .pair_operator import PairOperator
 
@@ -25,12 +25,19 @@ from .pair_operator import PairOperator
 class ContactProblem:
     """Wraps an ElasticProblem and the constraint rows of its mesh."""
 
-    def __init__(self, problem, rows, floating=None):
+    def __init__(self, problem, rows, floating=None, saddle: bool = False):
         """floating: the pieces only contact holds (wingcrack.floating.Floating;
-        their gauge is among the problem's displacement conditions)."""
+        their gauge is among the problem's displacement conditions); saddle:
+        solve each state set as one sparse saddle-point system
+        (fem.pair_saddle) instead of on the dense pair compliance."""
         self.problem = problem
         self.rows = rows
-        self.op = PairOperator(problem, rows) if len(rows) else None
+        self.saddle = None
+        if saddle and len(rows):
+            from .pair_saddle import PairSaddle
+
+            self.saddle = PairSaddle(problem, rows)
+        self.op = PairOperator(problem, rows) if len(rows) and self.saddle is None else None
         self.result = None
         self.reference = np.zeros(len(rows))   # s_ref on Coulomb rows
         self.floating = floating if floating is not None and floating.r else None
@@ -88,6 +95,8 @@ class ContactProblem:
         penetrating without contact forces)."""
         p = self.problem
         p.solve(load_factor, expand=False)   # u on a far interior when it is read (ElasticProblem.expand)
+        if self.saddle is not None:
+            return self._solve_saddle(load_factor, active)
         if self.op is None:
             return None
         rows = self.rows
@@ -104,6 +113,36 @@ class ContactProblem:
         self.op.add_forces(u, res.mu)
         if rigid is not None:
             self._add_rigid(u, res.alpha)
+        self.result = res
+        return res
+
+    def _solve_saddle(self, load_factor, active):
+        """solve() through fem.pair_saddle: each state set with the elasticity
+        whole; u becomes the accepted set's."""
+        p, rows, sd = self.problem, self.rows, self.saddle
+        u = p.u
+        n = sd.n_owned
+        jump0 = sd.jumps(u.vector.getArray(readonly=True)[:n])
+        slip = rows.slip * p.loads.bc_factor(load_factor)
+        target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
+        law = rows.friction_law()
+        prescribed = ~rows.normal & ~rows.coulomb
+        last = {}
+
+        def solve(A, T, sign, C):
+            eq = (rows.normal & A) | prescribed | (T == STICK)
+            uu, mu = sd.solve_set(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), target,
+                                  p.b)
+            last["u"] = uu
+            return mu, sd.jumps(uu)
+
+        # the complementarity parameters' scale: a jump of the faces against a force per unit length, ~E
+        lam, mu_l = float(p.lam.value), float(p.mu.value)
+        c0 = 4.0 * mu_l * (lam + mu_l) / (lam + 2.0 * mu_l)
+        res = solve_by_sets(solve, jump0, target, rows.normal, law, c0, active=active, start=self.result)
+        arr = u.vector.getArray()
+        arr[:n] = last["u"]
+        u.x.scatter_forward()
         self.result = res
         return res
 
