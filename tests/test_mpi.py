@@ -240,3 +240,28 @@ def test_a_fixed_mesh_run_on_two_ranks_follows_the_one_that_reuses_its_far_field
     for p, q in zip(a["fractures"], b["fractures"]):
         p, q = np.array(p["points"]), np.array(q["points"])
         assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * 0.084
+
+
+def test_the_saddle_route_on_two_ranks_is_the_dense_one(tmp_path):
+    """fem.pair_saddle on two ranks (its multiplier rows on the last one, the jumps gathered) against
+    the dense route on the same two ranks: the same SIFs and forces to round-off (measured 4e-13, 1e-12)."""
+    script = tmp_path / "saddle.py"
+    script.write_text(f"""
+import numpy as np
+from mpi4py import MPI
+import wingcrack.step as st
+from wingcrack.case import Case
+case = Case.from_toml({str(ROOT / "cases" / "multi_fractures_friction.toml")!r})
+a = st.solve_initial(case)
+st.DENSE_ROWS = 0
+b = st.solve_initial(case)
+ka = np.array([[t.KI, t.KII] for t in a.tips]); kb = np.array([[t.KI, t.KII] for t in b.tips])
+k = np.abs(ka - kb).max() / np.abs(ka).max()
+m = np.abs(a.contact.result.mu - b.contact.result.mu).max() / np.abs(a.contact.result.mu).max()
+if MPI.COMM_WORLD.rank == 0:
+    print(b.contact.saddle is not None and k < 1e-10 and m < 1e-10)
+""")
+    proc = subprocess.run([MPIRUN, "-n", "2", sys.executable, str(script)], capture_output=True, text=True,
+                          env=mpi_env(), timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "True", proc.stdout
