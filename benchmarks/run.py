@@ -9,6 +9,8 @@ Prints, each section marked:
   ratios to today (cases.py, against benchmarks/baseline.json);
 - what friction changes in the cases (friction_cases.py) and what injection
   changes in paper 4.3 (pressure_cases.py), read from those same runs;
+- each Coulomb case's friction solves against the frictionless solve of the
+  same pair system, and its worst step against its median (friction_solve.py);
 - issue 16's targets 1-3 (targets.py; 3, the 1.10M DOF step, with --large);
 - the 30k-300k DOF scaling on 1 and 2 MPI ranks (scaling.py), with the 1M
   point of target 3 when --large ran it.
@@ -167,6 +169,7 @@ def main(argv=None):
     import cases
     import targets
     from friction_cases import main as friction_table
+    from friction_solve import coulomb_cases, main as friction_solve
     from mesh_disc import main as bench_mesh
     from pressure_cases import main as pressure_table
     from ratios import load_baseline
@@ -193,6 +196,8 @@ def main(argv=None):
         section("what friction changes, what injection changes (the same runs)")
         friction_table([str(out / "cases")], runs=runs)
         pressure_table([str(out / "cases")], runs=runs)
+        section("the friction solve against the frictionless one, and the worst step, per Coulomb case")
+        friction_solve([] if args.cases is None else ["--cases"] + [n for n in names if n in coulomb_cases()])
         section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
         print(baseline.get("about", "?"))
         tdir = out / "targets"
