@@ -196,8 +196,10 @@ def main(argv=None):
         section("what friction changes, what injection changes (the same runs)")
         friction_table([str(out / "cases")], runs=runs)
         pressure_table([str(out / "cases")], runs=runs)
-        section("the friction solve against the frictionless one, and the worst step, per Coulomb case")
-        friction_solve([] if args.cases is None else ["--cases"] + [n for n in names if n in coulomb_cases()])
+        chosen = [n for n in names if n in coulomb_cases()]
+        if chosen:
+            section("the friction solve against the frictionless one, and the worst step, per Coulomb case")
+            friction_solve(["--cases"] + chosen)
         section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
         print(baseline.get("about", "?"))
         tdir = out / "targets"
