@@ -361,3 +361,24 @@ def test_an_unusable_output_path_exits_2(fake_api, tmp_path, capsys, command, pr
     assert cli.main(args) == 2
     assert capsys.readouterr().err == f"wingcrack: error: {path}: cannot use the path ({reason})\n"
     assert fake_api.calls == []
+
+
+@pytest.mark.parametrize("command", ["sif", "run"])
+def test_a_slow_step_says_what_it_is_doing(command, tmp_path):
+    """A step slower than progress.SLOW_STEP (5 s; 0.2 s here through WINGCRACK_SLOW_STEP) says on
+    stderr what it is doing, where no bar shows it (stderr is a pipe here); --quiet says nothing."""
+    import os
+
+    env = dict(os.environ, WINGCRACK_SLOW_STEP="0.2")
+    case = tmp_path / "case.toml"
+    case.write_text((ROOT / "cases" / "multi_fractures_friction.toml").read_text().replace("steps = 35", "steps = 2"))
+    extra = ["--no-plots"] if command == "run" else []
+    cli = [sys.executable, "-m", "wingcrack.cli", command, str(case)]
+    loud = subprocess.run([*cli, "-o", str(tmp_path / "a"), *extra], capture_output=True, text=True, timeout=600,
+                          env=env)
+    assert loud.returncode == 0, loud.stderr
+    lines = [ln for ln in loud.stderr.splitlines() if ln.startswith("wingcrack: step 0, ")]
+    assert lines and any("meshing" in ln or "factorising" in ln for ln in lines), loud.stderr
+    quiet = subprocess.run([*cli, "-o", str(tmp_path / "b"), "--quiet", *extra], capture_output=True, text=True,
+                           timeout=600, env=env)
+    assert quiet.returncode == 0 and "wingcrack: step" not in quiet.stderr, quiet.stderr

@@ -164,7 +164,10 @@ def _command(args) -> int:
                 result = api.run(case, args.out, progress=progress, plots=args.plots, force=args.force,
                                  resume=args.resume)
         else:
-            result = api.sif(case, args.out, force=args.force)
+            from wingcrack.progress import Heartbeat
+
+            with Heartbeat(args.quiet):
+                result = api.sif(case, args.out, force=args.force)
     if result is not None and world_rank() == 0:  # where the results are, even with --quiet
         print(f"{PROG}: {result.summary['status']}; results in {args.out}/: " + _names(result.files))
         for warning in result.summary.get("warnings", []):   # each once: summary.json keeps them

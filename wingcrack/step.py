@@ -24,6 +24,7 @@ import numpy as np
 
 from .version import __version__
 import wingcrack_kernels as K
+from . import progress
 from .errors import ComputationError
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
 
@@ -357,6 +358,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
         mesh.cancel()
         raise
 
+    progress.doing("meshing")
     cm = mesh.result()
     timer.lap("mesh")
     fm = to_dolfinx(cm)
@@ -382,6 +384,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
         far = FarField.start(problem, cm)
         started = far is not None
     timer.lap("patch")
+    progress.doing(f"factorising the stiffness ({fm.num_dofs} DOFs, {len(rows)} pair rows)")
     problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) and not saddle else None, far=far)
     timer.lap("factorize")
     if far is not None and not problem.reused_far:   # other supports in the far field: factorised whole
@@ -423,11 +426,17 @@ def solve_initial(case, timer: Timer | None = None, load_factor: float = 1.0,
     """The case's initial geometry discretised, solved at `load_factor`
     (with contact) and its SIFs: what `sif` computes."""
     timer = timer or Timer()
-    d = discretise(case, case.fractures, timer, timeout=timeout)
-    d.solve(load_factor)
-    timer.lap("solve")
-    tips = d.sifs(case, [f.points for f in case.fractures])
-    timer.lap("sif")
+    progress.step_started(0)
+    try:
+        d = discretise(case, case.fractures, timer, timeout=timeout)
+        progress.doing(f"the solve at load factor {load_factor:.6g}")
+        d.solve(load_factor)
+        timer.lap("solve")
+        progress.doing("the stress intensity factors")
+        tips = d.sifs(case, [f.points for f in case.fractures])
+        timer.lap("sif")
+    finally:
+        progress.step_ended()
     return Solution(d.cm, d.problem, d.contact, d.pressures, tips=tips)
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_by_sets, solve_friction
+from .. import progress
 from ..errors import Collapse
 from .pair_operator import PairOperator
 
@@ -105,6 +106,7 @@ class ContactProblem:
         slip = rows.slip * p.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
         target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
         rigid = None if self.floating is None else Rigid(self.G, *self._generalised_loads())
+        progress.doing(f"contact at load factor {load_factor:.6g}: {len(rows)} pair rows")
         try:
             res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active,
                                  start=self.result, rigid=rigid)   # the last solve's states: the next trial's start
@@ -139,6 +141,7 @@ class ContactProblem:
         # the complementarity parameters' scale: a jump of the faces against a force per unit length, ~E
         lam, mu_l = float(p.lam.value), float(p.mu.value)
         c0 = 4.0 * mu_l * (lam + mu_l) / (lam + 2.0 * mu_l)
+        progress.doing(f"contact at load factor {load_factor:.6g}: {len(rows)} pair rows, a saddle-point system a set")
         res = solve_by_sets(solve, jump0, target, rows.normal, law, c0, active=active, start=self.result)
         arr = u.vector.getArray()
         arr[:n] = last["u"]

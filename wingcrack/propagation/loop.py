@@ -34,6 +34,7 @@ import wingcrack_kernels as K
 from .. import step
 from ..errors import Collapse, ComputationError
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
+from .. import progress as progress_now
 from . import checkpoint, growth, interrupt
 from .critical_load import critical_load_factor, scales_with_load
 from .fracture_set import FractureSet
@@ -208,6 +209,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
     k = first
     for k in range(first, prop.steps):
         timer = step.Timer()
+        progress_now.step_started(k)
         try:
             interrupt.check()
             if not fset.active_tips():
@@ -226,6 +228,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 status = no_tip_left(records)
                 break
             if prop.load in SEARCHED:
+                progress_now.doing("the critical-load search")
                 crit = _critical_load(case, disc, fset, grow, lam)
                 if crit.load_factor is None:
                     status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}" \
@@ -234,9 +237,11 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 lam, solves = crit.load_factor, int(crit.solves)
             else:
                 solves = 1
+            progress_now.doing(f"the solve at load factor {lam:.6g}")
             disc.solve(lam)
             timer.lap("solve")
             interrupt.check()
+            progress_now.doing("the stress intensity factors")
             tips = disc.sifs(case, fset.polylines())
             timer.lap("sif")
             # the converged slip along the fractures as meshed (before they grow): the next mesh's reference
@@ -249,6 +254,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 records.append(step.finish(out, k, lam, disc, tips, timer, solves=1, KIc=case.material.KIc))
                 shown = disc
                 break
+            progress_now.doing("growth, the step's files and the next mesh")
             grown = growth.grow(fset, candidates, len(tips), rule, case.domain)
             timer.lap("growth")
             interrupt.check()
@@ -340,7 +346,11 @@ def _critical_load(case, disc, fset, grow, start):
     there), and the response scales with the load only from zero slip."""
     polylines = fset.polylines()
 
+    trials = [0]
+
     def keq(load):
+        trials[0] += 1
+        progress_now.doing(f"the critical-load search, trial {trials[0]} at load factor {load:.6g}")
         disc.solve(load)
         KI, KII = disc.driving_sifs(case, polylines)
         th = K.mts_angle(KI[grow], KII[grow])
