@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import drawing, step
+from .propagation import interrupt
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -75,7 +76,8 @@ def _prepare_out(out, force: bool = False) -> Path:
     problem = None
     if comm.rank == 0:
         try:
-            prepare(out, force)
+            with interrupt.deferred():   # the previous result goes whole, never half of it
+                prepare(out, force)
         except FolderError as err:
             problem = (err.path, err.reason)
     problem = comm.bcast(problem, root=0)
@@ -100,6 +102,7 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     _require_case(case)
     if out is not None:
         _folder_name(out)
+    interrupt.forget()   # a stop before this call (a run's, caught by the caller) is past
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     if out is not None:
         drawing.start()   # matplotlib's import, too, while the case computes
@@ -113,7 +116,6 @@ def _sif(case, out, force) -> SifResult:
     from .errors import ComputationError
     from .io.summary import write_summary
     from .propagation.fracture_set import FractureSet
-    from .propagation import interrupt
 
     if out is not None:
         out = _prepare_out(out, force)
@@ -128,7 +130,12 @@ def _sif(case, out, force) -> SifResult:
     try:
         sol = step.solve_initial(case, timer)
         record = step.finish(out, 0, 1.0, sol, sol.tips, timer, states=step.static_states(sol.tips, case.material.KIc))
-    except step.FAILURES as err:
+    except Exception as err:
+        stop = interrupt.cause(err)
+        if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
+            raise stop from None
+        if not isinstance(err, step.FAILURES):
+            raise
         status = step.failure(0, err)
         write(step.summary(case, status, [], pieces))
         raise ComputationError(status) from None

@@ -286,7 +286,14 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
             status = interrupt.stop_status(err)
             write(status)
             raise
-        except step.FAILURES as err:
+        except Exception as err:
+            stop = interrupt.cause(err)
+            if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
+                status = interrupt.stop_status(stop)
+                write(status)
+                raise stop from None
+            if not isinstance(err, step.FAILURES):
+                raise
             status = step.failure(k, err)
             if records and records[-1].step == k:   # step k failed in its commit: it did not finish
                 records.pop()
