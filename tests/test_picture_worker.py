@@ -103,26 +103,28 @@ def api_modules_loaded(names):
 
 
 def test_a_picture_that_fails_in_the_worker_warns_as_here(tmp_path, monkeypatch, calls):
-    """fractures.png cannot be written (a folder of that name, made between
-    the solve and the drawing): the same warning as drawn in-process, the
-    status "finished", the other pictures drawn."""
+    """fractures.png and the animation cannot be drawn (the face file they
+    read damaged between the solve and the drawing): the same warnings as
+    drawn in-process, the status "finished", history.png drawn. (A picture
+    that cannot be written is a failure of the run: test_unwritable_output.py.)"""
     real = drawing.pictures
 
-    def blocked(out, summary, history, animation):
-        (out / "fractures.png").mkdir()
+    def damaged(out, summary, history, animation):
+        (out / "faces_0000.vtu").write_text("not a VTU file")
         return real(out, summary, history, animation)
 
-    monkeypatch.setattr(drawing, "pictures", blocked)
+    monkeypatch.setattr(drawing, "pictures", damaged)
     out = tmp_path / "run"
     r = wingcrack.run(plate(1), out=out)
     assert [name for name, _ in calls] == ["_draw_pictures"]
     saved = json.loads((out / "summary.json").read_text())
-    assert saved["status"] == "finished" and len(saved["warnings"]) == 1
-    assert saved["warnings"][0].startswith("fractures.png could not be drawn (IsADirectoryError")
+    assert saved["status"] == "finished" and len(saved["warnings"]) == 2
+    assert saved["warnings"][0].startswith("fractures.png could not be drawn (FolderError")
+    assert saved["warnings"][1].startswith("the growth animation could not be drawn (FolderError")
     assert (out / "history.png").is_file() and "picture" not in r.files
     summary = dict(saved)
     summary.pop("warnings")
-    _, here = api._draw_pictures(out, summary, True, False)
+    _, here = api._draw_pictures(out, summary, True, True)
     assert here == saved["warnings"]
 
 
