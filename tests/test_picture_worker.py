@@ -7,6 +7,7 @@ pixel (Agg is deterministic: the same figure gives the same pixels, so the
 tolerance is none); the warnings of a picture that cannot be drawn in this
 process, compared as text; a worker that is killed, which must cost nothing
 but the time of drawing here."""
+import errno
 import json
 import os
 import shutil
@@ -76,7 +77,7 @@ def redrawn_here(out, tmp_path, history, animation):
 def test_sif_draws_in_the_worker_the_pictures_drawn_here(tmp_path, calls):
     out = tmp_path / "sif"
     r = wingcrack.sif(plate(), out=out)
-    assert [name for name, _ in calls] == ["_draw_pictures"]
+    assert [name for name, _ in calls] == ["_pictures_answer"]
     assert os.getpid() != calls[0][1]
     assert r.files["picture"] == out / "fractures.png" and "warnings" not in r.summary
     here, files, warnings = redrawn_here(out, tmp_path, False, False)
@@ -87,7 +88,7 @@ def test_sif_draws_in_the_worker_the_pictures_drawn_here(tmp_path, calls):
 def test_run_draws_in_the_worker_every_picture_drawn_here(tmp_path, calls):
     out = tmp_path / "run"
     r = wingcrack.run(plate(2), out=out)
-    assert [name for name, _ in calls] == ["_draw_pictures"] and r.status == "finished"
+    assert [name for name, _ in calls] == ["_pictures_answer"] and r.status == "finished"
     here, files, warnings = redrawn_here(out, tmp_path, True, True)
     assert not warnings and {k: v.name for k, v in files.items()} == {k: r.files[k].name for k in files}
     for name in ("fractures.png", "history.png", files["animation"].name):
@@ -116,7 +117,7 @@ def test_a_picture_that_fails_in_the_worker_warns_as_here(tmp_path, monkeypatch,
     monkeypatch.setattr(drawing, "pictures", damaged)
     out = tmp_path / "run"
     r = wingcrack.run(plate(1), out=out)
-    assert [name for name, _ in calls] == ["_draw_pictures"]
+    assert [name for name, _ in calls] == ["_pictures_answer"]
     saved = json.loads((out / "summary.json").read_text())
     assert saved["status"] == "finished" and len(saved["warnings"]) == 2
     assert saved["warnings"][0].startswith("fractures.png could not be drawn (FolderError")
@@ -126,6 +127,30 @@ def test_a_picture_that_fails_in_the_worker_warns_as_here(tmp_path, monkeypatch,
     summary.pop("warnings")
     _, here = api._draw_pictures(out, summary, True, True)
     assert here == saved["warnings"]
+
+
+def test_a_picture_the_folder_refuses_in_the_worker_fails_the_run_without_drawing_it_here(tmp_path, monkeypatch,
+                                                                                        calls):
+    """fractures.png's name taken by a folder between the solve and the
+    drawing (rename(2) refuses it with EISDIR): the worker's WriteError ends
+    the run as drawn in-process, and the pictures are not drawn again here."""
+    real = drawing.pictures
+
+    def blocked(out, summary, history, animation):
+        (out / "fractures.png").mkdir()
+        return real(out, summary, history, animation)
+
+    here = []   # the pictures drawn in this process (the worker's api is its own)
+    plot_here = api.plot
+    monkeypatch.setattr(drawing, "pictures", blocked)
+    monkeypatch.setattr(api, "plot", lambda *args, **kwargs: here.append(args) or plot_here(*args, **kwargs))
+    out = tmp_path / "run"
+    with pytest.raises(wingcrack.ComputationError) as err:
+        wingcrack.run(plate(1), out=out)
+    status = f"failed: cannot write {out / 'fractures.png'}: {os.strerror(errno.EISDIR)}"
+    assert str(err.value) == status and json.loads((out / "summary.json").read_text())["status"] == status
+    assert here == []   # not drawn again here
+    assert [name for name, _ in calls] == ["_pictures_answer"]
 
 
 @pytest.mark.parametrize("when", ["before", "while"])
