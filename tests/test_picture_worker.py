@@ -7,6 +7,7 @@ pixel (Agg is deterministic: the same figure gives the same pixels, so the
 tolerance is none); the warnings of a picture that cannot be drawn in this
 process, compared as text; a worker that is killed, which must cost nothing
 but the time of drawing here."""
+import errno
 import json
 import os
 import shutil
@@ -76,7 +77,7 @@ def redrawn_here(out, tmp_path, history, animation):
 def test_sif_draws_in_the_worker_the_pictures_drawn_here(tmp_path, calls):
     out = tmp_path / "sif"
     r = wingcrack.sif(plate(), out=out)
-    assert [name for name, _ in calls] == ["_draw_pictures"]
+    assert [name for name, _ in calls] == ["_pictures_answer"]
     assert os.getpid() != calls[0][1]
     assert r.files["picture"] == out / "fractures.png" and "warnings" not in r.summary
     here, files, warnings = redrawn_here(out, tmp_path, False, False)
@@ -87,7 +88,7 @@ def test_sif_draws_in_the_worker_the_pictures_drawn_here(tmp_path, calls):
 def test_run_draws_in_the_worker_every_picture_drawn_here(tmp_path, calls):
     out = tmp_path / "run"
     r = wingcrack.run(plate(2), out=out)
-    assert [name for name, _ in calls] == ["_draw_pictures"] and r.status == "finished"
+    assert [name for name, _ in calls] == ["_pictures_answer"] and r.status == "finished"
     here, files, warnings = redrawn_here(out, tmp_path, True, True)
     assert not warnings and {k: v.name for k, v in files.items()} == {k: r.files[k].name for k in files}
     for name in ("fractures.png", "history.png", files["animation"].name):
@@ -103,27 +104,53 @@ def api_modules_loaded(names):
 
 
 def test_a_picture_that_fails_in_the_worker_warns_as_here(tmp_path, monkeypatch, calls):
-    """fractures.png cannot be written (a folder of that name, made between
-    the solve and the drawing): the same warning as drawn in-process, the
-    status "finished", the other pictures drawn."""
+    """fractures.png and the animation cannot be drawn (the face file they
+    read damaged between the solve and the drawing): the same warnings as
+    drawn in-process, the status "finished", history.png drawn. (A picture
+    that cannot be written is a failure of the run: test_unwritable_output.py.)"""
+    real = drawing.pictures
+
+    def damaged(out, summary, history, animation):
+        (out / "faces_0000.vtu").write_text("not a VTU file")
+        return real(out, summary, history, animation)
+
+    monkeypatch.setattr(drawing, "pictures", damaged)
+    out = tmp_path / "run"
+    r = wingcrack.run(plate(1), out=out)
+    assert [name for name, _ in calls] == ["_pictures_answer"]
+    saved = json.loads((out / "summary.json").read_text())
+    assert saved["status"] == "finished" and len(saved["warnings"]) == 2
+    assert saved["warnings"][0].startswith("fractures.png could not be drawn (FolderError")
+    assert saved["warnings"][1].startswith("the growth animation could not be drawn (FolderError")
+    assert (out / "history.png").is_file() and "picture" not in r.files
+    summary = dict(saved)
+    summary.pop("warnings")
+    _, here = api._draw_pictures(out, summary, True, True)
+    assert here == saved["warnings"]
+
+
+def test_a_picture_the_folder_refuses_in_the_worker_fails_the_run_without_drawing_it_here(tmp_path, monkeypatch,
+                                                                                        calls):
+    """fractures.png's name taken by a folder between the solve and the
+    drawing (rename(2) refuses it with EISDIR): the worker's WriteError ends
+    the run as drawn in-process, and the pictures are not drawn again here."""
     real = drawing.pictures
 
     def blocked(out, summary, history, animation):
         (out / "fractures.png").mkdir()
         return real(out, summary, history, animation)
 
+    here = []   # the pictures drawn in this process (the worker's api is its own)
+    plot_here = api.plot
     monkeypatch.setattr(drawing, "pictures", blocked)
+    monkeypatch.setattr(api, "plot", lambda *args, **kwargs: here.append(args) or plot_here(*args, **kwargs))
     out = tmp_path / "run"
-    r = wingcrack.run(plate(1), out=out)
-    assert [name for name, _ in calls] == ["_draw_pictures"]
-    saved = json.loads((out / "summary.json").read_text())
-    assert saved["status"] == "finished" and len(saved["warnings"]) == 1
-    assert saved["warnings"][0].startswith("fractures.png could not be drawn (IsADirectoryError")
-    assert (out / "history.png").is_file() and "picture" not in r.files
-    summary = dict(saved)
-    summary.pop("warnings")
-    _, here = api._draw_pictures(out, summary, True, False)
-    assert here == saved["warnings"]
+    with pytest.raises(wingcrack.ComputationError) as err:
+        wingcrack.run(plate(1), out=out)
+    status = f"failed: cannot write {out / 'fractures.png'}: {os.strerror(errno.EISDIR)}"
+    assert str(err.value) == status and json.loads((out / "summary.json").read_text())["status"] == status
+    assert here == []   # not drawn again here
+    assert [name for name, _ in calls] == ["_pictures_answer"]
 
 
 @pytest.mark.parametrize("when", ["before", "while"])

@@ -10,10 +10,12 @@ result layout (see io/outdir.py) and draw its pictures from it (io/).
 """
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import drawing, step
+from .propagation import interrupt
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -75,7 +77,8 @@ def _prepare_out(out, force: bool = False) -> Path:
     problem = None
     if comm.rank == 0:
         try:
-            prepare(out, force)
+            with interrupt.deferred():   # the previous result goes whole, never half of it
+                prepare(out, force)
         except FolderError as err:
             problem = (err.path, err.reason)
     problem = comm.bcast(problem, root=0)
@@ -100,6 +103,7 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     _require_case(case)
     if out is not None:
         _folder_name(out)
+    interrupt.forget()   # a stop before this call (a run's, caught by the caller) is past
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     if out is not None:
         drawing.start()   # matplotlib's import, too, while the case computes
@@ -110,10 +114,9 @@ def sif(case, out=None, force: bool = False) -> SifResult:
 def _sif(case, out, force) -> SifResult:
     from mpi4py import MPI
 
-    from .errors import ComputationError
+    from .errors import ComputationError, WriteError
     from .io.summary import write_summary
     from .propagation.fracture_set import FractureSet
-    from .propagation import interrupt
 
     if out is not None:
         out = _prepare_out(out, force)
@@ -124,25 +127,43 @@ def _sif(case, out, force) -> SifResult:
         if writes:
             write_summary(out / "summary.json", summary.to_dict())
 
+    def failed(err: Exception, steps: list) -> ComputationError:
+        """The error that ends the solve failing with `err`, its status
+        written where it can be (see loop.run)."""
+        status = step.failure(0, err)
+        try:
+            write(step.summary(case, status, steps, pieces))
+        except WriteError as unwritten:
+            if not (isinstance(err, WriteError) and err.path == unwritten.path):
+                status += f" (summary.json not updated: {unwritten.reason})"
+        return ComputationError(status)
+
     timer = step.Timer()
     try:
         sol = step.solve_initial(case, timer)
         record = step.finish(out, 0, 1.0, sol, sol.tips, timer, states=step.static_states(sol.tips, case.material.KIc),
                              KIc=case.material.KIc)
-    except step.FAILURES as err:
-        status = step.failure(0, err)
-        write(step.summary(case, status, [], pieces))
-        raise ComputationError(status) from None
+    except Exception as err:
+        stop = interrupt.cause(err)
+        if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
+            raise stop from None
+        if not isinstance(err, step.FAILURES):
+            raise
+        raise failed(err, []) from None
     summary = step.summary(case, "finished", [record], pieces)
     files = step.files_of(out, 1) if out is not None else {}
-    if writes:
-        try:
-            summary.warnings += _pictures(out, summary.to_dict(), False, False, files)
-        except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
-            summary.status = interrupt.stop_status(err)   # the data are all there: `wingcrack plot OUT` draws it
-            write(summary)
-            raise
-    write(summary)
+    try:
+        if writes:
+            try:
+                summary.warnings += _pictures(out, summary.to_dict(), False, False, files)
+            except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
+                summary.status = interrupt.stop_status(err)   # the data are all there: `wingcrack plot OUT` draws it
+                with contextlib.suppress(WriteError):   # the stop is the news
+                    write(summary)
+                raise
+        write(summary)
+    except WriteError as err:   # the folder takes no more files (the step's are all there)
+        raise failed(err, [record]) from None
     seconds = dict(timer.seconds)
     seconds["total"] = sum(seconds.values())
     return SifResult(sol.tips, summary.to_dict(), seconds, sol.dofs, sol.cells, sol.cm, sol.problem, out, files,
@@ -206,12 +227,12 @@ def _folder_lock(folder, create: bool):
 def _run(case, out, progress, plots, force, resume):
     from mpi4py import MPI
 
-    from .errors import ComputationError
+    from .errors import ComputationError, WriteError
     from .propagation import loop
 
     if resume:
         from .errors import FolderError
-        from .io.outdir import check_writable
+        from .io.outdir import check_writable, leftovers
         from .propagation import checkpoint
 
         if out is None:
@@ -219,6 +240,8 @@ def _run(case, out, progress, plots, force, resume):
         if not Path(out).is_dir():
             raise FolderError(Path(out), "does not exist: nothing to resume")
         check_writable(out)
+        for p in leftovers(out):   # what a run stopped while the folder refused removals left
+            p.unlink(missing_ok=True)
         try:
             state = checkpoint.load(out, case)
         except ValueError as err:
@@ -250,7 +273,7 @@ def _run(case, out, progress, plots, force, resume):
         else:
             result = loop.run(case, out, progress=progress, **options)
     except ComputationError as err:
-        if draw:
+        if draw and not isinstance(err.__cause__, WriteError):   # a folder that takes no files takes no pictures
             try:
                 drawing.plot(out, history=plots, animation=plots)
             except Exception as e:  # noqa: BLE001 - the computation's failure is the news
@@ -291,10 +314,16 @@ def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -
 
 def _draw_pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:
     """({name: path}, warnings) of the pictures drawn here (see _pictures)."""
+    from .errors import WriteError
+
     warnings = []
     try:
         drawn = plot(out, history=history, animation=animation, summary=summary, failed=warnings)
+    except WriteError:   # a picture not written: the run fails (loop.run), not a warning
+        raise
     except Exception as err:  # noqa: BLE001 - reading the result back failed: no picture at all
+        if (stop := interrupt.cause(err)) is not None:
+            raise stop from None
         drawn = {}
         warnings.append(_not_drawn("the pictures", err, out))
     return drawn, warnings
@@ -322,6 +351,7 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     Only these pictures are (re)written: they are views of the data, which
     is never touched. Raises FolderError when `folder` is missing, is not a
     wingcrack result or cannot be written."""
+    from .errors import WriteError
     from .io.outdir import check_writable, read_result
 
     _folder_name(folder)   # not locked here: run and sif call it on rank 0 only, inside their lock
@@ -333,7 +363,10 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
         try:
             files[name] = make()
         except Exception as err:  # noqa: BLE001 - reported, and the other pictures still drawn
-            if failed is None:
+            stop = interrupt.cause(err)
+            if stop is not None:   # an error that a stop caused: the stop
+                raise stop from None
+            if failed is None or isinstance(err, WriteError):   # a picture not written: the folder is at fault
                 raise
             failed.append(_not_drawn(what, err, folder))
 

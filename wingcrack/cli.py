@@ -111,20 +111,23 @@ def _error(message: str, every_rank: bool = False) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    args = None
     try:
         with interrupt.terminate_raises():   # SIGTERM ends a command as Ctrl-C does
+            args = _parser().parse_args(argv)
             return _command(args)
-    except (CaseError, FolderError) as err:
-        _error(str(err))
-        return EXIT_INVALID
-    except ComputationError as err:
-        _error(str(err) or "the computation failed")
-        return EXIT_FAILED
     except KeyboardInterrupt as err:   # Ctrl-C, or SIGTERM (interrupt.Terminated)
-        _error("terminated" if isinstance(err, interrupt.Terminated) else "interrupted")
-        return interrupt.exit_code(err)
+        return _stopped(err)
     except Exception as err:  # noqa: BLE001 - the CLI is the last line of defence
+        stop = interrupt.cause(err)
+        if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
+            return _stopped(stop)
+        if isinstance(err, (CaseError, FolderError)):
+            _error(str(err))
+            return EXIT_INVALID
+        if isinstance(err, ComputationError):
+            _error(str(err) or "the computation failed")
+            return EXIT_FAILED
         if isinstance(err, ModuleNotFoundError) and err.name in INSTALLED_BY_SETUP:
             # an environment made before the module was needed (the kernels' own
             # module, after a pull without `make setup`): no case can be checked
@@ -132,12 +135,20 @@ def main(argv: list[str] | None = None) -> int:
                    "`make setup` in the wingcrack checkout (an environment made for an older checkout needs it "
                    "again)", every_rank=True)
             return EXIT_FAILED
-        if args.debug:
+        debug = args is not None and args.debug
+        if debug:
             traceback.print_exc()
         detail = " ".join(str(err).split()) or "(no message)"
-        hint = "" if args.debug else " (run with --debug for the traceback)"
+        hint = "" if debug else " (run with --debug for the traceback)"
         _error(f"unexpected {type(err).__name__}: {detail}{hint}", every_rank=True)
         return EXIT_FAILED
+
+
+def _stopped(err: BaseException) -> int:
+    """Tell a stop by Ctrl-C or SIGTERM (`err`, a KeyboardInterrupt) and
+    return its exit status (130, 143)."""
+    _error(interrupt.message(err))
+    return interrupt.exit_code(err)
 
 
 def _command(args) -> int:

@@ -8,7 +8,8 @@ the command returns, as when they were drawn in-process.
 
 The worker runs api's own drawing functions (the same code as `wingcrack
 plot`), so the files and the warnings of a picture that cannot be drawn
-are the same. A drawing process that is not running (never started, or
+are the same, and a picture the folder does not take fails as there (its
+WriteError raised here, the picture not drawn again). A drawing process that is not running (never started, or
 died) or dies while drawing: the pictures are drawn in this process
 instead. Ctrl-C or SIGTERM while waiting kills the worker (see
 meshing.worker.Call) and reaches the caller as KeyboardInterrupt, as when
@@ -76,10 +77,27 @@ def pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, 
     args = (out, summary, history, animation)
     if _running():
         try:
-            return _drawing().call(api._draw_pictures, args, DRAW_TIMEOUT)
+            kind, value = _drawing().call(_pictures_answer, args, DRAW_TIMEOUT)
         except RuntimeError:   # the worker died (or its answer failed): draw here instead
-            pass
+            kind = None
+        if kind == "ok":
+            return value
+        if kind == "unwritten":   # the folder refused a picture: drawn here it would refuse it again
+            raise value
     return api._draw_pictures(*args)
+
+
+def _pictures_answer(out, summary: dict, history: bool, animation: bool) -> tuple:
+    """In the worker: ("ok", api._draw_pictures(...)) or ("unwritten", the
+    WriteError of a picture the folder did not take), which the caller
+    raises as it is (the worker's other errors reach it as RuntimeError)."""
+    from . import api
+    from .errors import WriteError
+
+    try:
+        return "ok", api._draw_pictures(out, summary, history, animation)
+    except WriteError as err:
+        return "unwritten", err
 
 
 def plot(out, history: bool, animation: bool) -> dict:

@@ -14,6 +14,21 @@ class ComputationError(RuntimeError):
     """The computation failed; what was finished is kept on disk."""
 
 
+class WriteError(ComputationError):
+    """A file of the result cannot be written (the disk is full, the folder
+    became read-only or unwritable, the file's name is taken by a folder):
+    `path` names the file, `reason` says why (the system's words). A run
+    that meets it fails with "failed: cannot write <path>: <reason>"."""
+
+    def __init__(self, path, reason: str):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"cannot write {self.path}: {reason}")
+
+    def __reduce__(self):   # pickled as it was made (parallel.on_root sends it to every rank)
+        return type(self), (self.path, self.reason)
+
+
 class FolderError(ValueError):
     """A folder given on the command line cannot be used: an output folder
     that cannot be written or holds a previous result, or a folder that is

@@ -7,8 +7,6 @@ from __future__ import annotations
 import os
 import sys
 
-import numpy as np
-
 _RANK_VARIABLES = ("OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID")
 
 
@@ -87,4 +85,6 @@ def snap(value, grid: float):
     rounded to a grid far above round-off, both hand gmsh the same input bit
     for bit (a rounding boundary falls between them with probability about
     round-off / grid)."""
+    import numpy as np   # here: a stop during numpy's import is told (world_rank) without importing it again
+
     return np.round(np.asarray(value, float) / grid) * grid

@@ -25,7 +25,7 @@ import numpy as np
 from .version import __version__
 import wingcrack_kernels as K
 from . import progress
-from .errors import ComputationError
+from .errors import ComputationError, WriteError
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
 
 #: seconds gmsh may take for one mesh; then it is retried once, coarser, and
@@ -510,22 +510,27 @@ def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> N
     """step_XXXX.vtu and faces_XXXX.vtu of step k (with the step and its
     load factor as field data), and the two ParaView indices over steps
     0..k, rewritten so that an interrupted run keeps a complete index.
-    Collective; rank 0 writes."""
-    from mpi4py import MPI
-
+    Collective: the values are gathered first, then rank 0 writes, and a
+    file it cannot write (WriteError) is raised on every rank (parallel.on_root:
+    otherwise the others would wait for rank 0 in the next step)."""
     from .io.faces import write_faces
-    from .io.fields import write_fields
+    from .io.fields import write_field_arrays
     from .io.outdir import FACES_PVD, FIELDS_PVD, faces_name, fields_name
     from .io.pvd import write_pvd
+    from .parallel import on_root
 
     out = Path(out)
     about = {"step": k, "load_factor": load_factor}
-    write_fields(out / fields_name(k), disc.problem, disc.cm, field_data=about)
+    fields = disc.problem.nodal_fields(len(disc.cm.x), [t.node for t in disc.cm.tips])   # on rank 0
     faces = disc.face_values()
-    if MPI.COMM_WORLD.rank == 0:
+
+    def write():
+        write_field_arrays(out / fields_name(k), disc.cm, fields, field_data=about)
         write_faces(out / faces_name(k), disc.cm, faces, field_data=about)
         write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
         write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
+
+    on_root(write)
 
 
 def files_of(out, n: int) -> dict:
@@ -546,7 +551,12 @@ def files_of(out, n: int) -> dict:
 
 
 def failure(k: int, err: BaseException) -> str:
-    """The status of a computation that failed at step k."""
+    """The status of a computation that failed at step k; of one whose
+    output could not be written (WriteError), "failed: cannot write <file>:
+    <reason>" (the file says which step; the folder is at fault, not the
+    step)."""
+    if isinstance(err, WriteError):
+        return f"failed: {err}"
     return f"failed: step {k}: {' '.join(str(err).split()) or type(err).__name__}"
 
 

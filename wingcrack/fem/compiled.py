@@ -50,6 +50,20 @@ class SignatureMismatch(AssertionError):
     """A recipe and layout that two different expressions share."""
 
 
+def _jit(comm, obj, **kwargs):
+    """jit.ffcx_jit(comm, obj, ...) with Ctrl-C and SIGTERM held until it
+    returns. FFCx claims a module of its cache by creating the module's
+    C file (empty) and gives the claim up on an Exception only: a
+    KeyboardInterrupt inside would leave it, and every later process would
+    wait for that module (FFCx's timeout, 10 s) and fail with "JIT
+    compilation timed out". A stop waits for one compilation at most (a
+    module not yet in the cache; a few seconds)."""
+    from ..propagation import interrupt
+
+    with interrupt.deferred():
+        return jit.ffcx_jit(comm, obj, **kwargs)
+
+
 def _layout(f: ufl.Form) -> tuple:
     """What the compiled form depends on besides the expression graph, as
     strings (FFCx changes elements in place: see fem.mesh)."""
@@ -69,8 +83,8 @@ def compiled(f: ufl.Form, recipe: tuple, dtype=PETSc.ScalarType):
     hit = _COMPILED.get(key)
     if hit is None:
         mesh = f.ufl_domain().ufl_cargo()
-        ufcx_form, module, code = jit.ffcx_jit(mesh.comm, f, form_compiler_params={"scalar_type": _SCALAR[dtype][0]},
-                                               jit_params={})
+        ufcx_form, module, code = _jit(mesh.comm, f, form_compiler_params={"scalar_type": _SCALAR[dtype][0]},
+                                       jit_params={})
         hit = _COMPILED[key] = (ufcx_form, module, code, f.signature())
     elif CHECK and f.signature() != hit[3]:
         raise SignatureMismatch(f"recipe {recipe!r}: a form of another expression than the compiled one")
@@ -130,7 +144,7 @@ def function_space(mesh, element: ufl.FiniteElementBase) -> fem.FunctionSpace:
     key = repr(element)
     hit = _ELEMENTS.get(key)
     if hit is None:
-        (ufcx_element, ufcx_dofmap), module, _ = jit.ffcx_jit(mesh.comm, element)
+        (ufcx_element, ufcx_dofmap), module, _ = _jit(mesh.comm, element)
         hit = _ELEMENTS[key] = ((ufcx_element, ufcx_dofmap), module)
     (ufcx_element, ufcx_dofmap), module = hit
     ffi = module.ffi
@@ -171,9 +185,8 @@ def expression(e, points: np.ndarray, recipe: tuple, dtype=PETSc.ScalarType) -> 
     key = (recipe, X.tobytes(), X.shape, dtype.str, _expression_layout(e))
     hit = _EXPRESSIONS.get(key)
     if hit is None:
-        ufcx_expression, module, code = jit.ffcx_jit(mesh.comm, (e, X),
-                                                     form_compiler_params={"scalar_type": _SCALAR[dtype][0]},
-                                                     jit_params={})
+        ufcx_expression, module, code = _jit(mesh.comm, (e, X), form_compiler_params={"scalar_type": _SCALAR[dtype][0]},
+                                             jit_params={})
         hit = _EXPRESSIONS[key] = (ufcx_expression, module, code, _expression_signature(e, X))
     elif CHECK and _expression_signature(e, X) != hit[3]:
         raise SignatureMismatch(f"recipe {recipe!r}: an expression other than the compiled one")

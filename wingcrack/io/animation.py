@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .atomic import replacing
 from .faces import STATE_NAMES
 from .pictures import FACE_BANDS, PRESSURE_BAR, pressure_colours
 
@@ -123,51 +124,54 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                        framealpha=0.8)
     labels = [t.get_text() for t in legend.get_texts()]
     artists = []
-    with writer.saving(fig, str(path), dpi=100):
-        for (fields, faces), step in zip(frames, steps):
-            for artist in artists:
-                artist.remove()
-            v = np.clip(np.where(np.isfinite(fields.von_mises), fields.von_mises, vmax), vmin, vmax)
-            # a TriMesh added without autoscaling (the view is fixed) is ax.tripcolor(shading="gouraud")
-            # without its costly data limits
-            field = TriMesh(Triangulation(fields.x[:, 0], fields.x[:, 1], fields.triangles),
-                            norm=norm, cmap="magma", rasterized=True)
-            field.set_array(v)
-            artists = [ax.add_collection(field, autolim=False)]
-            wet = faces.pressure > 0
-            rim = None
-            if wet.any():
-                # under the state bands and their black outline: a blue ring outside them
-                rim = ax.add_collection(LineCollection(faces.lines[wet], cmap=p_cmap, norm=p_norm,
-                                                       linewidths=RIM_WIDTH, capstyle="butt",
-                                                       path_effects=rim_outline), autolim=False)
-                rim.set_array(faces.pressure[wet])
-                artists.append(rim)
-            bands = {}
-            for state, (colour, label) in FACE_BANDS.items():
-                edges = faces.lines[faces.state == state]
-                if len(edges):
-                    # under the fracture line, wide enough to show past it on either side
-                    bands[label] = ax.add_collection(LineCollection(edges, colors=colour, linewidths=BAND_WIDTH,
-                                                                    capstyle="butt", path_effects=outline),
-                                                     autolim=False)
-            artists += bands.values()
-            artists.append(ax.add_collection(LineCollection(faces.lines, colors="white", linewidths=0.8),
-                                             autolim=False))
-            counts = ", ".join(f"{int(np.sum(faces.state == s))} {STATE_NAMES[s]}" for s in FACE_BANDS
-                               if np.any(faces.state == s))
-            # with fluid the face counts go to a line of their own: the stress scale would cut a long one
-            injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa\n" if wet.any() else "; "
-            ax.set_title(f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
-                         + (injection + f"face edges {counts}" if counts else injection.rstrip("; \n")),
-                         fontsize=10)
-            if drawn is not None:
-                frame = {label: np.asarray(b.get_segments(), float).reshape(-1, 3, 2) for label, b in bands.items()}
-                if rim is not None:
-                    frame["pressurised"] = {"lines": np.asarray(rim.get_segments(), float).reshape(-1, 3, 2),
-                                            "pressure": np.asarray(rim.get_array(), float)}
-                frame["legend"] = labels
-                drawn.append(frame)
-            writer.grab_frame()
-    plt.close(fig)
+    try:
+        # the temporary file keeps the suffix: the writer's format goes by it
+        with replacing(path, path.suffix) as tmp, writer.saving(fig, str(tmp), dpi=100):
+            for (fields, faces), step in zip(frames, steps):
+                for artist in artists:
+                    artist.remove()
+                v = np.clip(np.where(np.isfinite(fields.von_mises), fields.von_mises, vmax), vmin, vmax)
+                # a TriMesh added without autoscaling (the view is fixed) is ax.tripcolor(shading="gouraud")
+                # without its costly data limits
+                field = TriMesh(Triangulation(fields.x[:, 0], fields.x[:, 1], fields.triangles),
+                                norm=norm, cmap="magma", rasterized=True)
+                field.set_array(v)
+                artists = [ax.add_collection(field, autolim=False)]
+                wet = faces.pressure > 0
+                rim = None
+                if wet.any():
+                    # under the state bands and their black outline: a blue ring outside them
+                    rim = ax.add_collection(LineCollection(faces.lines[wet], cmap=p_cmap, norm=p_norm,
+                                                           linewidths=RIM_WIDTH, capstyle="butt",
+                                                           path_effects=rim_outline), autolim=False)
+                    rim.set_array(faces.pressure[wet])
+                    artists.append(rim)
+                bands = {}
+                for state, (colour, label) in FACE_BANDS.items():
+                    edges = faces.lines[faces.state == state]
+                    if len(edges):
+                        # under the fracture line, wide enough to show past it on either side
+                        bands[label] = ax.add_collection(LineCollection(edges, colors=colour, linewidths=BAND_WIDTH,
+                                                                        capstyle="butt", path_effects=outline),
+                                                         autolim=False)
+                artists += bands.values()
+                artists.append(ax.add_collection(LineCollection(faces.lines, colors="white", linewidths=0.8),
+                                                 autolim=False))
+                counts = ", ".join(f"{int(np.sum(faces.state == s))} {STATE_NAMES[s]}" for s in FACE_BANDS
+                                   if np.any(faces.state == s))
+                # with fluid the face counts go to a line of their own: the stress scale would cut a long one
+                injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa\n" if wet.any() else "; "
+                ax.set_title(f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
+                             + (injection + f"face edges {counts}" if counts else injection.rstrip("; \n")),
+                             fontsize=10)
+                if drawn is not None:
+                    frame = {label: np.asarray(b.get_segments(), float).reshape(-1, 3, 2) for label, b in bands.items()}
+                    if rim is not None:
+                        frame["pressurised"] = {"lines": np.asarray(rim.get_segments(), float).reshape(-1, 3, 2),
+                                                "pressure": np.asarray(rim.get_array(), float)}
+                    frame["legend"] = labels
+                    drawn.append(frame)
+                writer.grab_frame()
+    finally:   # a file not written leaves no figure open (a long-lived drawing process draws the next)
+        plt.close(fig)
     return path

@@ -70,7 +70,7 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     """line3 cells of the + faces of `cm`; point data at the + face nodes
     (see the module doc; zero, OPEN, at tips, which are not pairs) from the
     pair values of face_state; `field_data` ({name: number}) as in
-    write_fields, and the state codes."""
+    write_field_arrays, and the state codes."""
     from .vtu import write_vtu
 
     st = face_state(cm, values)

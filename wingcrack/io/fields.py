@@ -48,10 +48,3 @@ def write_field_arrays(path: Path, cm, fields: dict | None, field_data: dict | N
                   {"displacement": disp, "stress": stress_tensor(fields["stress"]), "von_mises": fields["von_mises"]},
                   field_data=field_data)
     return path
-
-
-def write_fields(path: Path, problem, cm, field_data: dict | None = None) -> Path:
-    """write_field_arrays of the solution of `problem` (an
-    fem.elasticity.ElasticProblem: its nodal_fields gathers them).
-    Collective; rank 0 writes."""
-    return write_field_arrays(path, cm, problem.nodal_fields(len(cm.x), [t.node for t in cm.tips]), field_data)

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .atomic import replacing
+
 
 def history(summary: dict) -> dict:
     """The series drawn, from a summary (as in summary.json):
@@ -87,8 +89,11 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     fig.tight_layout()
     drawn = {line.get_label(): (np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float))
              for ax in (*axes, *extra) for line in ax.get_lines()}
-    fig.savefig(Path(path), dpi=110)
-    plt.close(fig)
+    try:
+        with replacing(path, Path(path).suffix) as tmp:   # the format by the suffix
+            fig.savefig(tmp, dpi=110)
+    finally:   # a file not written leaves no figure open (a long-lived drawing process draws the next)
+        plt.close(fig)
     return drawn
 
 

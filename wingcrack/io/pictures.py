@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .atomic import replacing
 from .faces import OPEN, SLIP, STICK
 
 #: the band of each face state: colour (Okabe-Ito, told apart by colour-blind
@@ -162,8 +163,11 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
                                 "pressure": np.asarray(rim.get_array(), float)}
     drawn["legend"] = [t.get_text() for t in legend.get_texts()] if legend is not None else []
     drawn["colour bars"] = [b.ax.get_ylabel() for b in bars]
-    fig.savefig(Path(path), dpi=110)
-    plt.close(fig)
+    try:
+        with replacing(path, Path(path).suffix) as tmp:   # the format by the suffix
+            fig.savefig(tmp, dpi=110)
+    finally:   # a file not written leaves no figure open (a long-lived drawing process draws the next)
+        plt.close(fig)
     return drawn
 
 

@@ -6,7 +6,7 @@ import json
 import math
 from pathlib import Path
 
-from .atomic import write_atomic
+from .atomic import unwritable, write_atomic
 
 #: where the steps go in the text of the rest of a summary (SummaryWriter): no case text holds NULs
 _STEPS_MARK = "\0steps of the summary\0"
@@ -32,8 +32,16 @@ def _clean(obj):
 def write_summary(path: Path, summary: dict) -> None:
     """Write `summary` as JSON to `path` atomically (temporary file + rename)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    _folder_of(path)
     write_atomic(path, json.dumps(_clean(summary), indent=1).encode())
+
+
+def _folder_of(path: Path) -> None:
+    """Make the folder of `path` (WriteError naming `path` when it cannot be made)."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise unwritable(path, err) from None
 
 
 class StepTexts:
@@ -80,5 +88,5 @@ class SummaryWriter:
             text = json.dumps(_clean(summary.to_dict()), indent=1)
         else:
             text = text.replace(mark, steps)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        _folder_of(self.path)
         write_atomic(self.path, text.encode())

@@ -16,8 +16,17 @@ interrupt is lost and the run continues (CI caught this once). So during a
 run the SIGINT handler also remembers the press; check() raises it again at
 the loop's next safe point, and such a swallowed KeyboardInterrupt is not
 printed. Where an interrupt must not land at all (the step's commit of
-summary and checkpoint; a forced collection), deferred() only records it
-and raises it on leaving.
+summary and checkpoint; a forced collection; the form compiler's cache
+entries), deferred() only records it and raises it on leaving.
+
+A signal's exception does not always reach the top as itself: raised
+inside an extension module's initialisation (DOLFINx's, numpy's: a signal
+during their import) it comes out as an ImportError, chained to it
+(pybind11's "initialization failed") or with the chain dropped (a C API
+that replaces the error), and code that catches Exception may turn it into
+anything else. Every handler here therefore remembers the signal it
+received, and cause(err) says which stop an exception stands for: after a
+stop was asked for, an error is its consequence, not a failure to report.
 """
 from __future__ import annotations
 
@@ -27,6 +36,8 @@ import threading
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _pressed = None   # the exception class of a signal received and not yet raised
+_received = None  # the exception class of the last signal that a handler here received (cause())
+_runs = 0         # how many watching() are entered (a run goes on)
 
 
 class Terminated(KeyboardInterrupt):
@@ -38,9 +49,38 @@ def _exception(signum):
 
 
 def _handler(signum, frame):
-    global _pressed
-    _pressed = _exception(signum)
+    global _pressed, _received
+    _pressed = _received = _exception(signum)
     raise _pressed
+
+
+def cause(err: BaseException) -> KeyboardInterrupt | None:
+    """The stop (KeyboardInterrupt, or Terminated) that `err` stands for, or
+    None when it is an error of its own: `err` itself when it is one; one in
+    the chain of exceptions `err` was raised from or while handling; else,
+    when a handler here received SIGINT or SIGTERM since the command or the
+    run began (forget()), that signal's, whose exception was turned into
+    `err` on its way up (see the module doc)."""
+    seen = set()
+    e = err
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return e
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return _received() if _received is not None else None
+
+
+def forget() -> None:
+    """A new command or run begins: signals received before it (their
+    exceptions delivered) are past, for cause() and check()."""
+    global _pressed, _received
+    _pressed = _received = None
+
+
+def message(err: BaseException) -> str:
+    """What the command line says for a stop by `err` (a KeyboardInterrupt)."""
+    return "terminated" if isinstance(err, Terminated) else "interrupted"
 
 
 def stop_status(err: BaseException) -> str:
@@ -68,23 +108,34 @@ def _restore(old: dict) -> None:
 
 class terminate_raises:
     """Within (main thread only): SIGTERM raises Terminated, as Ctrl-C raises
-    KeyboardInterrupt, instead of ending the process at once. The CLI holds
-    this for a whole command, so that a terminated `sif` or `plot` also
-    ends through the normal path (output folder released, one line, 143)."""
+    KeyboardInterrupt, instead of ending the process at once, and both are
+    remembered for cause(). The command's entry point (wingcrack/__main__.py)
+    holds this from its first line and the CLI for the whole command, so
+    that a terminated `sif` or `plot`, or a command stopped while it
+    imports its modules, also ends through the normal path (output folder
+    released, one line, 143 or 130). A signal that the process was started
+    with ignored (a background job of a script: SIGINT) stays ignored."""
 
     def __enter__(self):
         self.active = _main_thread()
         if self.active:
-            self.old = signal.signal(signal.SIGTERM, self._raise)
+            forget()
+            self.old = {s: signal.getsignal(s) for s in _SIGNALS}
+            for s in _SIGNALS:
+                if self.old[s] is not signal.SIG_IGN:
+                    signal.signal(s, self._raise)
         return self
 
     @staticmethod
     def _raise(signum, frame):
-        raise Terminated
+        global _received
+        _received = _exception(signum)
+        raise _received
 
     def __exit__(self, *exc):
         if self.active:
-            signal.signal(signal.SIGTERM, self.old if self.old is not None else signal.SIG_DFL)
+            for s, h in self.old.items():
+                signal.signal(s, h if h is not None else signal.SIG_DFL)
         return False
 
 
@@ -101,8 +152,9 @@ class watching:
     handler that was there)."""
 
     def __enter__(self):
-        global _pressed
-        _pressed = None
+        global _runs
+        forget()
+        _runs += 1
         self.active = _main_thread()
         if self.active:
             self.old = _install(_handler)
@@ -116,6 +168,8 @@ class watching:
         self.old_hook(unraisable)
 
     def __exit__(self, *exc):
+        global _runs
+        _runs -= 1
         if self.active:
             _restore(self.old)
             sys.unraisablehook = self.old_hook
@@ -133,18 +187,23 @@ def check() -> None:
 
 class deferred:
     """Within: Ctrl-C or SIGTERM only sets a flag; on leaving, its exception
-    is raised if it came (here or, swallowed, before)."""
+    is raised if it came (here or, in a run, swallowed before). An
+    exception raised within goes up as it is (cause() tells when the signal
+    caused it: a compiler that the same Ctrl-C stopped)."""
 
     def __enter__(self):
+        global _pressed
         self.active = _main_thread()
         if self.active:
+            if not _runs:
+                _pressed = None   # outside a run nothing is pending but what comes here
             self.old = _install(self._flag)
         return self
 
     @staticmethod
     def _flag(signum, frame):
-        global _pressed
-        _pressed = _exception(signum)
+        global _pressed, _received
+        _pressed = _received = _exception(signum)
 
     def __exit__(self, *exc):
         if self.active:

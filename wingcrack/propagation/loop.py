@@ -32,7 +32,8 @@ import numpy as np
 
 import wingcrack_kernels as K
 from .. import step
-from ..errors import Collapse, ComputationError
+from ..errors import Collapse, ComputationError, WriteError
+from ..parallel import on_root
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from .. import progress as progress_now
 from . import checkpoint, growth, interrupt
@@ -204,6 +205,25 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
         if writes:
             summary_file.write(step.summary(case, st, records, done.summary(), warnings))
 
+    def write_last(st) -> str:
+        """Write the run's last status `st`: "", or what the news of the run's
+        end adds when summary.json cannot be written (it says "running")."""
+        try:
+            write(st)
+        except WriteError as err:
+            return f" (summary.json not updated: {err.reason})"
+        return ""
+
+    def failed(err: Exception) -> ComputationError:
+        """The error that ends the run failing with `err` at step k, its
+        status written where it can be. Raised `from` a WriteError, which
+        tells api.run that the folder takes no pictures either."""
+        status = step.failure(k, err)
+        note = write_last(status)
+        if isinstance(err, WriteError) and err.path == str(out / "summary.json"):
+            note = ""   # the status says it already
+        return ComputationError(status + note)
+
     if not records and first >= prop.steps:
         status = NO_STEPS
     k = first
@@ -286,24 +306,33 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                     fset.connect_pressures()
                 done = fset.copy()
                 history = converged
-                write("running")
-                if writes:
-                    checkpoints.save(k, fset, lam, records, sizes, history, patch)
+
+                def commit():
+                    if writes:
+                        write("running")
+                        checkpoints.save(k, fset, lam, records, sizes, history, patch)
+
+                on_root(commit)   # a file rank 0 cannot write fails the step on every rank
         except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
             status = interrupt.stop_status(err)
-            write(status)
+            write_last(status)   # the stop is the news, whether or not summary.json can say it
             raise
         except Collapse as err:   # the body cannot carry the load: the end of its loading path, not a failure
             status = f"stopped: step {k}: the body cannot carry the load: {err}"
             if records and records[-1].step == k:
                 records.pop()
             break
-        except step.FAILURES as err:
-            status = step.failure(k, err)
+        except Exception as err:
+            stop = interrupt.cause(err)
+            if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
+                status = interrupt.stop_status(stop)
+                write_last(status)
+                raise stop from None
+            if not isinstance(err, step.FAILURES):
+                raise
             if records and records[-1].step == k:   # step k failed in its commit: it did not finish
                 records.pop()
-            write(status)
-            raise ComputationError(status) from None
+            raise failed(err) from (err if isinstance(err, WriteError) else None)
         if progress is not None:
             # the caller's code, after step k is committed: its own exception goes up unchanged (not a
             # failure of the computation, and step k stays in summary.json and the checkpoint)
@@ -311,16 +340,21 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 progress(k, record.to_dict())
             except KeyboardInterrupt as err:
                 status = interrupt.stop_status(err)
-                write(status)
+                write_last(status)
                 raise
     if finishing is not None:
         try:
             warnings.extend(finishing(summary_now(status)))
         except KeyboardInterrupt as err:
             status = interrupt.stop_status(err)   # every step is kept; `wingcrack plot OUT` draws the pictures
-            write(status)
+            write_last(status)
             raise
-    write(status)
+        except WriteError as err:   # a picture: every step is kept, but the folder takes no more files
+            raise failed(err) from err
+    try:
+        write(status)
+    except WriteError as err:
+        raise failed(err) from err
     result = RunResult(status, [r.to_dict() for r in records], fset, summary_now(status), out,
                        mesh=None if shown is None else shown.cm, problem=None if shown is None else shown.problem,
                        contact=None if shown is None else shown.contact)

@@ -1,0 +1,42 @@
+"""The `wingcrack` command's entry point: the console script calls main()
+(and `python -m wingcrack` runs it), before anything else of wingcrack runs.
+
+Ctrl-C or SIGTERM at any moment of the command stops it with one line and
+exit status 130 or 143, never a traceback, including while it imports its
+modules: wingcrack.cli brings numpy, and a signal during an import is
+raised inside it (numpy's and DOLFINx's extension modules then raise an
+ImportError instead: propagation.interrupt.cause). So the handlers are
+installed here first, with only the interrupt module imported (a few
+milliseconds after Python's own start-up), and the CLI is imported inside
+them.
+"""
+import sys
+
+from wingcrack.propagation import interrupt
+
+
+def main(argv=None) -> int:
+    try:
+        with interrupt.terminate_raises():
+            from wingcrack import cli
+
+            return cli.main(argv)
+    except KeyboardInterrupt as err:   # before or after the CLI's own handling
+        return _stopped(err)
+    except Exception as err:
+        stop = interrupt.cause(err)
+        if stop is None:
+            raise   # the CLI cannot be imported at all: an installation without it
+        return _stopped(stop)
+
+
+def _stopped(err: BaseException) -> int:
+    from wingcrack.parallel import world_rank
+
+    if world_rank() == 0:   # what the CLI says for a stop (rank 0 tells it)
+        print(f"wingcrack: error: {interrupt.message(err)}", file=sys.stderr)
+    return interrupt.exit_code(err)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
