@@ -17,6 +17,8 @@ and both modes: the tip position, frame and aux mode are fem.Constants.
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 import ufl
 from dolfinx import fem
@@ -95,9 +97,14 @@ class InteractionIntegral:
         self.tip.value[:] = tip_xy
         self.R.value[:] = np.array([ex, ey], float)
 
-        p = self._q_x
+        # q vanishes from r_out on: only the dofs a tree finds within it are set (the same values as
+        # over every dof; per tip the search is local, not a pass over the mesh)
+        near = np.asarray(self._q_tree.query_ball_point(tip_xy, r_out), dtype=np.int64)
+        p = self._q_x[near]
         d = np.hypot(p[:, 0] - tip_xy[0], p[:, 1] - tip_xy[1])
-        self.q.x.array[:] = np.clip((r_out - d) / (r_out - r_in), 0.0, 1.0)
+        q = self.q.x.array
+        q[:] = 0.0
+        q[near] = np.clip((r_out - d) / (r_out - r_in), 0.0, 1.0)
         form, cells = self._form_near(tip_xy, r_out)
         self.problem.u_on_cells(cells)   # u where the form reads it (a far interior's expanded if it reaches there)
         comm = self.problem.fm.mesh.comm
@@ -115,6 +122,21 @@ class InteractionIntegral:
         from .mesh import cell_tags
 
         msh = self.problem.fm.mesh
-        d = np.linalg.norm(self._cell_x - np.asarray(tip_xy)[None, None, :], axis=2)
-        cells = np.flatnonzero(d.min(axis=1) < r_out).astype(np.int32)
+        near = np.asarray(self._vertex_tree.query_ball_point(tip_xy, r_out), dtype=np.int64) // 3
+        near = np.unique(near)
+        d = np.linalg.norm(self._cell_x[near] - np.asarray(tip_xy)[None, None, :], axis=2)
+        cells = near[d.min(axis=1) < r_out].astype(np.int32)   # in ascending order, as over every cell
         return self._prepared.form(cell=cell_tags(msh, cells)), cells
+
+    @cached_property
+    def _vertex_tree(self):
+        """A k-d tree of the local cells' vertices (point 3 c + i: vertex i of cell c)."""
+        from scipy.spatial import cKDTree
+
+        return cKDTree(self._cell_x.reshape(-1, 2))
+
+    @cached_property
+    def _q_tree(self):
+        from scipy.spatial import cKDTree
+
+        return cKDTree(self._q_x)
