@@ -567,13 +567,15 @@ class Case:
         return [f.points for f in self.fractures]
 
     def tips(self) -> list[Tip]:
-        """Fracture ends strictly inside the domain (an end on the boundary is an
-        edge crack's mouth, not a tip), in fracture order, end 0 before end 1."""
+        """Fracture ends strictly inside the domain and on no fracture (an end
+        on the boundary is an edge crack's mouth, an end on a fracture a
+        junction: neither is a tip), in fracture order, end 0 before end 1."""
         tol = REL_TOL * self.length_scale
+        joined = admissibility.joined_ends(self.domain, self.fracture_points())
         out = []
         for i, f in enumerate(self.fractures):
             for end, p in ((0, f.points[0]), (1, f.points[-1])):
-                if not self.domain.on_boundary(p, tol):
+                if not self.domain.on_boundary(p, tol) and (i, end) not in joined:
                     out.append(Tip(i, end, (float(p[0]), float(p[1]))))
         return out
 
@@ -875,7 +877,7 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     parsed = [ft.read(DESCRIPTION["fractures"], known) for ft in fr_tables]
     for ft, f in zip(fr_tables, parsed):
         _refuse(admissibility.fracture(f["points"], ft.key("points"), domain))
-    _refuse(admissibility.fractures_apart([f["points"] for f in parsed]))
+    _refuse(admissibility.fractures_meet(domain, [f["points"] for f in parsed]))
     for f in parsed:
         f["points"].setflags(write=False)
     fractures = tuple(Fracture(**f) for f in parsed)

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from meshing import admissibility
+
 
 @dataclass
 class GrowingFracture:
@@ -88,13 +90,20 @@ class FractureSet:
 
     @classmethod
     def from_case(cls, case) -> "FractureSet":
+        """The case's fractures, each end as growth would have left it: on the
+        boundary "boundary", on a fracture "joined" (a T-junction, or met end
+        to end; joined_to the fracture met: meshing.admissibility.joined_ends,
+        the mesher's own reading), else "tip"."""
         tol = 1e-9 * case.length_scale
+        joined = admissibility.joined_ends(case.domain, [np.asarray(f.points, float) for f in case.fractures])
         out = []
-        for f in case.fractures:
+        for i, f in enumerate(case.fractures):
             pts = np.asarray(f.points, float).copy()
-            ends = ["boundary" if case.domain.on_boundary(p, tol) else "tip" for p in (pts[0], pts[-1])]
+            ends = ["boundary" if case.domain.on_boundary(p, tol) else "joined" if (i, e) in joined else "tip"
+                    for e, p in enumerate((pts[0], pts[-1]))]
             out.append(GrowingFracture(pts, (0, len(pts) - 1), ends, f.faces, f.gap, f.slip,
-                                       f.slip_profile, f.grow, f.friction, f.cohesion, f.pressure))
+                                       f.slip_profile, f.grow, f.friction, f.cohesion, f.pressure,
+                                       joined_to=[joined.get((i, e)) for e in (0, 1)]))
         return cls(out)
 
     def polylines(self) -> list:
