@@ -365,9 +365,9 @@ def junction_angles(net: network.Joined) -> Problem | None:
             f, g = sorted((a[1], b[1]))
             other = "itself" if f == g else f"fractures[{f}]"
             return Problem(fracture_key(g), f"meets {other} at ({x[0]:.6g}, {x[1]:.6g}) at "
-                                            f"{math.degrees(gap):.3g} degrees: fractures meet at "
-                                            f"{MIN_JUNCTION_ANGLE:g} degrees or more (the cells between "
-                                            "two fractures at a smaller angle are slivers)")
+                                            f"{_short(math.degrees(gap), MIN_JUNCTION_ANGLE, 3)} degrees: "
+                                            f"fractures meet at {MIN_JUNCTION_ANGLE:g} degrees or more (the cells "
+                                            "between two fractures at a smaller angle are slivers)")
     return None
 
 

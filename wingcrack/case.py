@@ -881,6 +881,7 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     for f in parsed:
         f["points"].setflags(write=False)
     fractures = tuple(Fracture(**f) for f in parsed)
+    _check_slip_junctions(fractures, domain)
 
     bc_tables = top.value(section["bc"])
     bcs = tuple(_parse_bc(bt, domain.boundary_names(), known) for bt in bc_tables)
@@ -915,6 +916,24 @@ def _parse_case(d: dict, source: Path | None) -> Case:
 # ---------------------------------------------------------------- geometry checks
 # The geometric admissibility of a case (sizes, positions, polygon, fractures,
 # points, rosettes): one block, kept apart from the reading above.
+
+
+def _check_slip_junctions(fractures, domain) -> None:
+    """Two fractures with prescribed slip do not meet: at their junction the
+    node copies' jumps sum to zero around it, so the slip rows of both
+    fix more components than the copies have (the pair system is singular)."""
+    slip = [i for i, f in enumerate(fractures) if f.faces == "slip"]
+    if len(slip) < 2:
+        return
+    net = admissibility.joined(domain, [f.points for f in fractures])
+    for members in net.nodes.values():
+        met = sorted({f for f, _ in members if fractures[f].faces == "slip"})
+        if len(met) > 1:
+            f, v = members[0]
+            x = net.polylines[f][v]
+            raise CaseError(f"fractures[{met[1]}].faces", f'"slip" fractures[{met[1]}] meets "slip" '
+                            f"fractures[{met[0]}] at ({x[0]:.6g}, {x[1]:.6g}): two prescribed slips over-determine "
+                            "the faces' jumps at a junction; give one of them other faces")
 
 
 def _on_named_boundary(domain, name: str, p, tol: float) -> bool:
