@@ -18,7 +18,15 @@ the mesh of a rosette disc that comes within g h of something else has a
 triangle of quality ~g (the rosette's own sectors: 0.33); at g = 0 the
 mesh is invalid or gmsh aborts.
 
-Pure numpy and the compiled kernels; never the `wingcrack` package.
+Fractures may meet (meshing/network.py joins them: T's, X's, ends met end
+to end, closed loops). What no mesh holds (a common stretch, a meeting on
+the boundary: `joins`) both the check and the mesher refuse; what makes
+poor cells (junction angles, junctions too near each other or the
+boundary, an end a hair off a fracture) the check refuses for the case's
+fractures, while the mesher takes what growth makes (a wing's T at any
+angle) as it is.
+
+Pure numpy, scipy and the compiled kernels; never the `wingcrack` package.
 """
 from __future__ import annotations
 

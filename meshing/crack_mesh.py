@@ -138,7 +138,11 @@ def crack_mesh(
     kept instead; a centred one is used with it).
     A fracture end that lies on another fracture (or on a non-adjacent part of
     its own) is a T-junction: no rosette there, the other fracture is split at
-    the point, and the junction node gets three copies.
+    the point, and the junction node gets three copies; two ends at one point
+    meet end to end (two copies); fractures that cross get the crossing as a
+    vertex of both (an X: four copies), and so on for any number of fractures
+    through one point (meshing/network.py; the same coordinates in each). A
+    fracture may run from boundary to boundary (both mouths split).
     crack_mesh(...) is start_crack_mesh(...).result(): the same mesh.
     Each call opens and closes its own gmsh session (gmsh.initialize /
     finalize), so do not call it while holding a gmsh session of your own.

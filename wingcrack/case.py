@@ -579,6 +579,12 @@ class Case:
                     out.append(Tip(i, end, (float(p[0]), float(p[1]))))
         return out
 
+    def junctions(self) -> list[tuple[float, float]]:
+        """The points where fractures meet (an end on a fracture, ends met end
+        to end, a crossing), as the mesher joins them."""
+        net = admissibility.joined(self.domain, self.fracture_points())
+        return sorted((float(x), float(y)) for x, y in net.node_points())
+
     def bc_points(self) -> list[np.ndarray]:
         """The distinct points of point conditions (`at`), to embed in the mesh."""
         tol = REL_TOL * self.length_scale
