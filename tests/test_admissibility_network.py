@@ -172,3 +172,18 @@ def test_two_slip_fractures_may_not_meet():
     d["fractures"][1]["faces"] = "frictionless"
     d["fractures"][1].pop("slip")
     wingcrack.Case.from_dict(d)
+
+
+def test_crossing_fractures_share_their_pressure():
+    """Fractures that cross are connected as joined ones are
+    (propagation.connect_pressure): the X's two take the higher pressure; a
+    fracture apart keeps its own. A checkpoint's set gets the same links."""
+    d = base([[(-0.3, Y0), (0.3, Y0)], [(-0.1, -0.3), (0.1, 0.3)], [(0.5, 0.5), (0.7, 0.6)]])
+    d["fractures"][1]["pressure"] = 2e5
+    d["fractures"][2]["pressure"] = 1e5
+    case = wingcrack.Case.from_dict(d)
+    fset = FractureSet.from_case(case)
+    assert fset.links == [(0, 1)] == FractureSet.case_links(case) and fset.copy().links == [(0, 1)]
+    assert fset.connected_groups() == [[0, 1], [2]]
+    assert fset.connect_pressures()
+    assert [f.pressure for f in fset.fractures] == [2e5, 2e5, 1e5]

@@ -437,8 +437,9 @@ class Propagation:
                        "correlation (the paper's) or the interaction integral (at a tip where it has no room, "
                        "correlation). Both are always reported. Use `\"interaction\"` for nearly incompressible "
                        "plane strain (nu above about 0.495), where correlation locks; see the README.")
-    connect_pressure: bool = key(True, doc="Fractures joined through a T-junction or linked tip to tip are "
-                                 "hydraulically connected: after each step's growth every connected group takes "
+    connect_pressure: bool = key(True, doc="Fractures joined through a T-junction, linked tip to tip or "
+                                 "crossing are hydraulically connected: after each step's growth every connected "
+                                 "group takes "
                                  "the highest pressure among its fractures, from the next step on. `false`: each "
                                  "fracture keeps its own `pressure`.")
 
