@@ -465,7 +465,7 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
         polylines.append(pts)
 
     joined = network.join(polylines, free_ends, tol, mouths=list(mouth_anchor))
-    admissibility.require(admissibility.joins(joined))
+    admissibility.require(admissibility.joins(joined, [len(p) for p in fractures]))
     polylines, junction, met = joined.polylines, joined.junction, joined.met
     tips = []
     for f, end in free_ends:

@@ -281,7 +281,7 @@ def _join_crossings(out: Joined, free: set, mouths: set, tol: float) -> None:
         for c in hit:
             mine, other = (i[k], j[k]) if c < 2 else (j[k], i[k])
             v = int(index[mine]) + (c % 2)
-            d_other, param = ends[c][0][k], ends[c][1][k]
+            param = ends[c][1][k]   # where on the other segment
             vertices = [(int(owner[mine]), v)]
             interior = []
             q0, q1 = a[other], b[other]
@@ -291,7 +291,6 @@ def _join_crossings(out: Joined, free: set, mouths: set, tol: float) -> None:
                 vertices.append((int(owner[other]), int(index[other]) + 1))
             else:
                 interior.append((int(owner[other]), int(index[other]), float(param)))
-            del d_other
             items.append((where[k, c].copy(), vertices, interior))
     for k in np.flatnonzero(proper):
         x = P0[k] + t[k] * r[k]
