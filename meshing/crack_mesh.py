@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from meshing import admissibility, point_symmetry
+from meshing import admissibility, network, point_symmetry
 from meshing.domain import Domain
 from meshing.records import RawMesh, SplitMesh
 from meshing.timeout import MeshTimeout, start_with_timeout
@@ -138,7 +138,11 @@ def crack_mesh(
     kept instead; a centred one is used with it).
     A fracture end that lies on another fracture (or on a non-adjacent part of
     its own) is a T-junction: no rosette there, the other fracture is split at
-    the point, and the junction node gets three copies.
+    the point, and the junction node gets three copies; two ends at one point
+    meet end to end (two copies); fractures that cross get the crossing as a
+    vertex of both (an X: four copies), and so on for any number of fractures
+    through one point (meshing/network.py; the same coordinates in each). A
+    fracture may run from boundary to boundary (both mouths split).
     crack_mesh(...) is start_crack_mesh(...).result(): the same mesh.
     Each call opens and closes its own gmsh session (gmsh.initialize /
     finalize), so do not call it while holding a gmsh session of your own.
@@ -460,7 +464,9 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
                 free_ends.append((f, end))
         polylines.append(pts)
 
-    polylines, junction, met = _junctions(polylines, free_ends, tol)
+    joined = network.join(polylines, free_ends, tol, mouths=list(mouth_anchor))
+    admissibility.require(admissibility.joins(joined, [len(p) for p in fractures]))
+    polylines, junction, met = joined.polylines, joined.junction, joined.met
     tips = []
     for f, end in free_ends:
         if (f, end) in junction or (f, end) in met:
@@ -481,89 +487,6 @@ def _plan(domain: Domain, fractures, points, tip_size: float) -> _Plan:
     rosettes = [admissibility.Rosette(t.fracture, t.end, t.x, t.h) for t in tips]
     admissibility.require(admissibility.rosettes(domain, polylines, rosettes, tip_size))
     return _Plan(polylines, tips, anchors, point_anchor, mouth_anchor, junction)
-
-
-def _segments_near(p, pts, tol) -> list[int]:
-    """The segments of the polyline `pts` that may pass within `tol` of p:
-    all those within twice it by a vectorised distance (which may round
-    otherwise than the scalar one _junctions decides with, never by a
-    factor 2), in order, so that _junctions' scalar loop visits only them."""
-    pts = np.asarray(pts, dtype=np.float64)
-    a, ab = pts[:-1], np.diff(pts, axis=0)
-    den = np.einsum("ij,ij->i", ab, ab)
-    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
-    d = np.linalg.norm(p - a - t[:, None] * ab, axis=1)
-    return np.flatnonzero(~(d > 2.0 * tol)).tolist()   # NaN kept: the scalar loop decides
-
-
-def _junctions(polylines, free_ends, tol):
-    """Ends lying on another fracture (or on a non-adjacent segment of their
-    own) are T-junctions: insert the point into the host polyline (unless it
-    is a vertex already). An end on another fracture's free end links the two
-    end to end (neither is a tip). Returns (polylines, {(f, end): (host,
-    vertex)}, {host ends met end to end})."""
-    hits = []  # (f, end, host, segment, param)
-    for f, end in free_ends:
-        p = polylines[f][0 if end == 0 else -1]
-        best = None
-        for g, pts in enumerate(polylines):
-            n = len(pts) - 1
-            for s in _segments_near(p, pts, tol):
-                if g == f and (s in (0, 1) if end == 0 else s in (n - 1, n - 2)):
-                    continue  # the end's own segment and its neighbour
-                a, b = pts[s], pts[s + 1]
-                ab = b - a
-                t = float(np.clip(np.dot(p - a, ab) / np.dot(ab, ab), 0.0, 1.0))
-                dist = float(np.linalg.norm(p - a - t * ab))
-                if dist <= tol and (best is None or dist < best[0]):
-                    best = (dist, g, s, t)
-        if best is not None:
-            hits.append((f, end, best[1], best[2], best[3]))
-    if not hits:
-        return polylines, {}, set()
-    # insert the junction points, per host segment in order of the parameter
-    out = [list(map(np.copy, pts)) for pts in polylines]
-    new_index: dict[tuple[int, int], int] = {}
-    for g, pts in enumerate(polylines):
-        n = len(pts) - 1
-        rows, index_of_vertex = [], {}
-        for s in range(n + 1):
-            index_of_vertex[s] = len(rows)
-            rows.append(pts[s])
-            if s == n:
-                break
-            inner = sorted((t, k) for k, (_, _, h, seg, t) in enumerate(hits) if h == g and seg == s)
-            for t, k in inner:
-                if np.linalg.norm(pts[s] + t * (pts[s + 1] - pts[s]) - pts[s]) <= tol:
-                    new_index[k] = -1 - s  # on vertex s (resolved below)
-                elif np.linalg.norm(pts[s] + t * (pts[s + 1] - pts[s]) - pts[s + 1]) <= tol:
-                    new_index[k] = -2 - s  # on vertex s + 1
-                else:
-                    f, end = hits[k][0], hits[k][1]
-                    new_index[k] = len(rows)
-                    rows.append(polylines[f][0 if end == 0 else -1].copy())
-        out[g] = rows
-        for k, v in list(new_index.items()):
-            if hits[k][2] == g and v < 0:
-                new_index[k] = index_of_vertex[-1 - v]
-    junction, met = {}, set()
-    for k, (f, end, g, _, _) in enumerate(hits):
-        if (f, end) in met:
-            continue  # the other half of a tip-to-tip meeting, recorded from its partner
-        vertex = new_index[k]
-        host = out[g]
-        if vertex in (0, len(host) - 1):
-            # tip meets tip: the two fractures link end to end, neither end is a tip
-            other = (g, 0 if vertex == 0 else 1)
-            if other not in free_ends:
-                raise ValueError(f"fracture {f}: end {end} meets the mouth of fracture {g} on the boundary")
-            met.add(other)
-            junction.pop(other, None)
-        junction[(f, end)] = (g, vertex)
-    polylines = [np.array(rows, dtype=np.float64) for rows in out]
-    for (f, end), (g, vertex) in junction.items():  # the same coordinates, bit for bit
-        polylines[f][0 if end == 0 else -1] = polylines[g][vertex]
-    return polylines, junction, met
 
 
 # -- 2. gmsh -----------------------------------------------------------------------
@@ -683,7 +606,7 @@ def _mesh_with_gmsh(domain, plan: _Plan, size, tip_size, sectors, sizes, algorit
     # Vertex tags first (a T-junction end takes its host's vertex), then lines.
     vertex_tags, curves_of = {}, {}
     embedded, elsewhere = _fracture_curves(geo, plan, range(len(plan.fractures)), anchor_tag, tip_of, tip_point,
-                                           spoke_on_crack, meshed, vertex_tags, curves_of)
+                                           spoke_on_crack, meshed, vertex_tags, curves_of, {})
     crack_curves = [c for f in range(len(plan.fractures)) for c in curves_of[f]]  # (curve, fracture, d)
 
     divider: list[int] = []
@@ -1004,6 +927,7 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
     spoke: list = [None] * len(plan.tips)
     curves_of: dict[int, list] = {}  # fracture -> its crack curves, in order
     vertex_tags: dict[int, list[int]] = {}
+    shared: dict[bytes, int] = {}
     sides = []
     for far_side in (True, False):
         group = [f for f in range(len(plan.fractures)) if inside[f] != far_side]
@@ -1015,7 +939,7 @@ def _mesh_patched(domain, plan: _Plan, size, tip_size, sectors, sizes, algorithm
             if hole is not None:
                 holes.append(hole)
         embedded, elsewhere = _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed,
-                                               vertex_tags, curves_of)
+                                               vertex_tags, curves_of, shared)
         if far_side:
             divider, loop = [], [cv for cv, _ in boundary_curves]
             if half is not None:  # R(p) .. R(q) | q .. p: the part between R(q) and q is inside
@@ -1115,11 +1039,14 @@ def _rosette_curves(geo, t, sectors, meshed, tip_point, spoke, k):
     return loops, geo.addCurveLoop(chords)
 
 
-def _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed, vertex_tags, curves_of):
+def _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, meshed, vertex_tags, curves_of,
+                     shared):
     """The crack curves of the fractures in `group` (as _mesh_with_gmsh builds
     them): fills vertex_tags[f] and curves_of[f] ([(curve, f, d)] in order
-    along f, the rosettes' spokes on the crack included); returns (curves to
-    embed, the other half's curves)."""
+    along f, the rosettes' spokes on the crack included), and shared (the
+    bits of a vertex's coordinates -> its point tag: vertices of several
+    fractures at one place are one point); returns (curves to embed, the
+    other half's curves)."""
     for f in group:
         pts = plan.fractures[f]
         tags = [0] * len(pts)
@@ -1131,7 +1058,12 @@ def _fracture_curves(geo, plan, group, anchor_tag, tip_of, tip_point, spoke, mes
         joined = {0 if end == 0 else len(pts) - 1 for (g, end) in plan.junction if g == f}
         for i in range(len(pts)):
             if not tags[i] and i not in joined:
-                tags[i] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
+                # one point where vertices of several fractures coincide (an X: network.join
+                # gave them the same bits)
+                key = pts[i].tobytes()
+                if key not in shared:
+                    shared[key] = geo.addPoint(pts[i][0], pts[i][1], 0.0)
+                tags[i] = shared[key]
         vertex_tags[f] = tags
     for (f, end), (g, vertex) in plan.junction.items():
         if f in group:  # a junction joins fractures of one side (they touch)

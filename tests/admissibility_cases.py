@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from meshing.admissibility import GAP, NEIGHBOUR_CLEARANCE, TIP_CLEARANCE
+from meshing.admissibility import GAP, JUNCTION_GAP, MIN_JUNCTION_ANGLE, NEIGHBOUR_CLEARANCE, TIP_CLEARANCE
 
 H = 0.02        # tip_size of the base case
 SIZE = 0.2      # mesh.size
@@ -89,6 +89,40 @@ def family(name: str, k: float, phi: float = 0.0, n: int = 3) -> dict:
         d["bc"] = [{"at": [0.0, 1.0], "force": [0.0, -1e6]}, {"at": [0.0, -1.0], "force": [0.0, 1e6]},
                    {"at": [-1.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [1.0, 0.0], "displacement_y": 0.0}]
         return d
+    if name == "X":             # two fractures crossing at k degrees (phi turns the pair)
+        a, u = math.radians(k), _turn(phi)
+        w = _turn(phi + a)
+        x = np.array([0.0, Y0])
+        p1, p2 = x - 0.15 * w, x + 0.15 * w          # then bending away, so that the tips stay clear
+        n = np.array([-u[1], u[0]])
+        return base([[x - 0.4 * u, x + 0.4 * u], [p1 - 0.3 * n, p1, p2, p2 + 0.3 * n]])
+    if name == "T_angle":       # an end on another fracture, at k degrees to it
+        a = math.radians(k)
+        x = np.array([0.05, Y0])
+        return base([[(-0.3, Y0), (0.3, Y0)], [x + 0.15 * _turn(a) + [0.0, 0.25], x + 0.15 * _turn(a), x]])
+    if name == "star":          # three fractures through one point, k degrees between neighbouring rays
+        x = np.array([0.0, Y0])
+        ang = [phi, phi + math.radians(k), phi + 2 * math.radians(k)]
+        return base([[x - 0.3 * _turn(b), x + 0.3 * _turn(b)] for b in ang])
+    if name == "XX":            # two crossings on one fracture k tip sizes apart (the second crossing
+        d = k * h               # fracture runs parallel to the first there, then bends away)
+        b = 0.2 * math.cos(phi)
+        return base([[(-0.3, Y0), (0.3, Y0)], [(0.0, Y0 - 0.3), (0.0, Y0 + 0.3)],
+                     [(d + b, Y0 - 0.3), (d, Y0 - 0.1), (d, Y0 + 0.1), (d + b, Y0 + 0.3)]])
+    if name == "T_kink":        # an end on another fracture k tip sizes from its kink
+        return base([[(-0.3, Y0), (0.0, Y0), (0.3, Y0 + 0.1)], [(-k * h + 0.1 * math.sin(phi), 0.3),
+                                                                  (-k * h, Y0)]])
+    if name == "T_mouth":       # an end on an edge crack k tip sizes from its mouth
+        x = np.array([-1.0 + k * h, 0.3])
+        return base([[(-1.0, 0.3), (-0.5, 0.3)], [x, x + 0.25 * _turn(1.0 + 0.3 * phi)]])
+    if name == "through":       # a fracture from bottom to top, crossed at k degrees; both pieces held
+        a = math.radians(k)
+        x = np.array([0.1, Y0])
+        w = _turn(math.pi / 2 - a)
+        d = base([[(0.1, -1.0), (0.1, 1.0)], [x - 0.3 * w, x + 0.3 * w]])
+        d["bc"] = [{"on": "top", "traction": [2e5, -1e6]}, {"on": "bottom", "traction": [-2e5, 1e6]},
+                   {"on": "left", "displacement": [0.0, 0.0]}, {"on": "right", "displacement": [0.0, 0.0]}]
+        return d
     if name == "zigzag":        # n points, segments k tip sizes long
         t = np.arange(n) * k * h
         x = t - 0.5 * t[-1]
@@ -103,6 +137,8 @@ THRESHOLD = {
     "tiptip": 2 + GAP, "short": 2 + GAP, "segment": 1.0, "kink": NEIGHBOUR_CLEARANCE, "uturn": TIP_CLEARANCE,
     "doubleback": NEIGHBOUR_CLEARANCE, "graze": 1.0, "pin": 1.0, "pin_corner": 1.0, "mouth": 1.0,
     "zigzag": 1.05, "rim": TIP_CLEARANCE,
+    "X": MIN_JUNCTION_ANGLE, "T_angle": MIN_JUNCTION_ANGLE, "star": MIN_JUNCTION_ANGLE, "through": MIN_JUNCTION_ANGLE,
+    "XX": JUNCTION_GAP, "T_kink": JUNCTION_GAP, "T_mouth": JUNCTION_GAP,
 }
 
 
@@ -125,7 +161,8 @@ def place(case: dict, angle: float = 0.0, scale: float = 1.0, offset: float = 0.
         out["domain"] = {"shape": "polygon", "points": [move(c) for c in corners]}
     else:
         out["domain"] = {"shape": "rectangle", "corner": move((-1.0, -1.0)), "size": [2.0 * scale, 2.0 * scale]}
-    names = {"top": "edge2", "bottom": "edge0"} if angle and case["domain"]["shape"] != "disc" else {}
+    names = {"top": "edge2", "bottom": "edge0", "right": "edge1", "left": "edge3"} \
+        if angle and case["domain"]["shape"] != "disc" else {}
     out["fractures"] = [dict(f, points=[move(p) for p in f["points"]]) for f in case["fractures"]]
     bcs = []
     for bc in case["bc"]:

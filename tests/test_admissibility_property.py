@@ -5,7 +5,10 @@ the edge of every rule of meshing/admissibility.py (tests/admissibility_cases.py
 a tip near the boundary, a corner, another fracture, another tip, its own
 earlier segments; short segments and short fractures; edge cracks at
 grazing angles; pins and mouths near each other and near corners;
-polylines of up to 200 points), each a relative delta from the rule's
+polylines of up to 200 points; fractures that meet: X's, T's and three
+fractures through one point at angles near the least junction angle, a
+fracture from boundary to boundary crossed by another, junctions near
+each other, a kink and a mouth), each a relative delta from the rule's
 threshold, then turned, scaled from 1e-10 to 1e10 and moved up to 2e6
 domain sizes from the origin. The one allowed outcomes: the check refuses
 (CaseError, the CLI's exit 2) with a key, or the mesher meshes it and the

@@ -122,7 +122,7 @@ def console(*args) -> subprocess.CompletedProcess:
     return subprocess.run(cmd + [str(a) for a in args], capture_output=True, text=True, timeout=120)
 
 
-SAMPLE = ["syntax_nul_byte", "not_utf8", "deeply_nested_array", "coordinates_huge", "fractures_crossing",
+SAMPLE = ["syntax_nul_byte", "not_utf8", "deeply_nested_array", "coordinates_huge", "fractures_crossing_flat",
           "conflicting_corner"]
 
 

@@ -140,3 +140,51 @@ def test_closed_coulomb_t_junction_is_not_singular(angle):
     t = contact.tractions()
     np.testing.assert_allclose(t[rows.normal], -S, rtol=1e-8)
     assert np.abs(t[~rows.normal]).max() < 1e-8 * S
+
+
+@pytest.mark.parametrize("faces", ["frictionless", "coulomb"])
+def test_closed_x_of_pre_existing_fractures_under_hydrostatic_compression(faces):
+    """Two pre-existing fractures crossing (an X, as the case gives them):
+    the crossing node has four copies and four pairs (one per half-edge),
+    whose jumps have three independent components per direction (they sum
+    to zero around the node); the rows there are the four normal rows only
+    (junction pairs: Coulomb keeps no tangential row) and independent: the
+    rows' direction matrix on the copies has rank 4 and the pair system is
+    SPD. Hydrostatic compression: every pair closed, no displacement, the
+    contact pressure S, no shear (the uncracked plate's solution)."""
+    a = np.array([[-1.0, 0.1], [1.0, 0.1]])
+    b = np.array([[-0.3, -0.8], [0.4, 1.0]])
+    d = square_plate_with_cracks(L, [a, b], (-S, -S, 0.0), size=1.0, tip_size=0.05)
+    for f in d["fractures"]:
+        f.update(faces=faces, **({"friction": 0.6} if faces == "coulomb" else {}))
+    case = Case.from_dict(d)
+    assert len(case.tips()) == 4
+    disc = discretise(case, case.fractures, Timer())
+    cm, problem, contact = disc.cm, disc.problem, disc.contact
+    from meshing import admissibility
+
+    (x,) = admissibility.joined(case.domain, case.fracture_points()).node_points()
+    node = np.flatnonzero(np.all(cm.x == x, axis=1))
+    assert len(node) == 4
+    rows = contact.rows
+    at = np.isin(rows.plus, node) & np.isin(rows.minus, node)
+    assert at.sum() == 4 and rows.normal[at].all()
+    # the rows' directions on the 8 dofs of the four copies: rank 4 (independent)
+    M = np.zeros((at.sum(), 8))
+    for r, k in enumerate(np.flatnonzero(at)):
+        i, j = list(node).index(rows.plus[k]), list(node).index(rows.minus[k])
+        M[r, 2 * i:2 * i + 2] += rows.direction[k]
+        M[r, 2 * j:2 * j + 2] -= rows.direction[k]
+    assert np.linalg.matrix_rank(M) == 4
+    np.linalg.cholesky(contact.op.S)   # SPD: no dependent rows anywhere
+    res = contact.solve(1.0)
+    assert res.active[rows.normal].all() and not res.fallback
+    u = nodal_displacements(problem.fm, problem.u, np.arange(len(cm.x)))
+    # the exact solution (uniform stress, zero displacement) is in the discrete
+    # space: zero to round-off, 1e-12 of the load's scale S L / E (measured ~1e-16)
+    assert np.abs(u).max() < 1e-12 * S * L / case.material.E
+    t = contact.tractions()
+    np.testing.assert_allclose(t[rows.normal], -S, rtol=1e-8)
+    assert np.abs(t[~rows.normal]).max(initial=0.0) < 1e-8 * S
+    for tip in disc.sifs(case, case.fracture_points()):
+        assert abs(tip.KI) < 1e-8 * S and abs(tip.KII) < 1e-8 * S

@@ -437,8 +437,9 @@ class Propagation:
                        "correlation (the paper's) or the interaction integral (at a tip where it has no room, "
                        "correlation). Both are always reported. Use `\"interaction\"` for nearly incompressible "
                        "plane strain (nu above about 0.495), where correlation locks; see the README.")
-    connect_pressure: bool = key(True, doc="Fractures joined through a T-junction or linked tip to tip are "
-                                 "hydraulically connected: after each step's growth every connected group takes "
+    connect_pressure: bool = key(True, doc="Fractures joined through a T-junction, linked tip to tip or "
+                                 "crossing are hydraulically connected: after each step's growth every connected "
+                                 "group takes "
                                  "the highest pressure among its fractures, from the next step on. `false`: each "
                                  "fracture keeps its own `pressure`.")
 
@@ -567,15 +568,23 @@ class Case:
         return [f.points for f in self.fractures]
 
     def tips(self) -> list[Tip]:
-        """Fracture ends strictly inside the domain (an end on the boundary is an
-        edge crack's mouth, not a tip), in fracture order, end 0 before end 1."""
+        """Fracture ends strictly inside the domain and on no fracture (an end
+        on the boundary is an edge crack's mouth, an end on a fracture a
+        junction: neither is a tip), in fracture order, end 0 before end 1."""
         tol = REL_TOL * self.length_scale
+        joined = admissibility.joined_ends(self.domain, self.fracture_points())
         out = []
         for i, f in enumerate(self.fractures):
             for end, p in ((0, f.points[0]), (1, f.points[-1])):
-                if not self.domain.on_boundary(p, tol):
+                if not self.domain.on_boundary(p, tol) and (i, end) not in joined:
                     out.append(Tip(i, end, (float(p[0]), float(p[1]))))
         return out
+
+    def junctions(self) -> list[tuple[float, float]]:
+        """The points where fractures meet (an end on a fracture, ends met end
+        to end, a crossing), as the mesher joins them."""
+        net = admissibility.joined(self.domain, self.fracture_points())
+        return sorted((float(x), float(y)) for x, y in net.node_points())
 
     def bc_points(self) -> list[np.ndarray]:
         """The distinct points of point conditions (`at`), to embed in the mesh."""
@@ -875,10 +884,11 @@ def _parse_case(d: dict, source: Path | None) -> Case:
     parsed = [ft.read(DESCRIPTION["fractures"], known) for ft in fr_tables]
     for ft, f in zip(fr_tables, parsed):
         _refuse(admissibility.fracture(f["points"], ft.key("points"), domain))
-    _refuse(admissibility.fractures_apart([f["points"] for f in parsed]))
+    _refuse(admissibility.fractures_meet(domain, [f["points"] for f in parsed]))
     for f in parsed:
         f["points"].setflags(write=False)
     fractures = tuple(Fracture(**f) for f in parsed)
+    _check_slip_junctions(fractures, domain)
 
     bc_tables = top.value(section["bc"])
     bcs = tuple(_parse_bc(bt, domain.boundary_names(), known) for bt in bc_tables)
@@ -913,6 +923,24 @@ def _parse_case(d: dict, source: Path | None) -> Case:
 # ---------------------------------------------------------------- geometry checks
 # The geometric admissibility of a case (sizes, positions, polygon, fractures,
 # points, rosettes): one block, kept apart from the reading above.
+
+
+def _check_slip_junctions(fractures, domain) -> None:
+    """Two fractures with prescribed slip do not meet: at their junction the
+    node copies' jumps sum to zero around it, so the slip rows of both
+    fix more components than the copies have (the pair system is singular)."""
+    slip = [i for i, f in enumerate(fractures) if f.faces == "slip"]
+    if len(slip) < 2:
+        return
+    net = admissibility.joined(domain, [f.points for f in fractures])
+    for members in net.nodes.values():
+        met = sorted({f for f, _ in members if fractures[f].faces == "slip"})
+        if len(met) > 1:
+            f, v = members[0]
+            x = net.polylines[f][v]
+            raise CaseError(f"fractures[{met[1]}].faces", f'"slip" fractures[{met[1]}] meets "slip" '
+                            f"fractures[{met[0]}] at ({x[0]:.6g}, {x[1]:.6g}): two prescribed slips over-determine "
+                            "the faces' jumps at a junction; give one of them other faces")
 
 
 def _on_named_boundary(domain, name: str, p, tol: float) -> bool:

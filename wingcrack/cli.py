@@ -283,10 +283,19 @@ def describe(case) -> str:
         f"thickness {_g(m.thickness)} m" + (f", density {_g(m.density)} kg/m^3" if m.density else "")
     )
     tips = case.tips()
-    mouths = 2 * len(case.fractures) - len(tips)
+    from wingcrack.case import REL_TOL
+
+    tol = REL_TOL * case.length_scale
+    mouths = sum(bool(geo.on_boundary(p, tol)) for f in case.fractures for p in (f.points[0], f.points[-1]))
+    on_fractures = 2 * len(case.fractures) - len(tips) - mouths
+    junctions = case.junctions()
     lines.append(
         f"fractures: {len(case.fractures)}, tips: {len(tips)}" + (f", edge-crack mouths: {mouths}" if mouths else "")
+        + (f", ends on fractures: {on_fractures}" if on_fractures else "")
     )
+    if junctions:
+        shown = ", ".join(_pt(p) for p in junctions[:6]) + (", ..." if len(junctions) > 6 else "")
+        lines.append(f"junctions (fractures meet, no tips): {len(junctions)} at {shown}")
     for i, f in enumerate(case.fractures):
         extra = f", slip {_g(f.slip)} m ({f.slip_profile})" if f.faces == "slip" else ""
         extra += f", friction {_g(f.friction)}, cohesion {_g(f.cohesion)} Pa" if f.faces == "coulomb" else ""

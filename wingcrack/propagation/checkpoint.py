@@ -156,7 +156,7 @@ def load(out, case) -> dict:
                                      _coefficient(m, "pressure"), _joined_to(m, len(meta["fractures"])))
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
-                 "fset": FractureSet(fractures), "sizes": sizes, "history": history,
+                 "fset": FractureSet(fractures, FractureSet.case_links(case)), "sizes": sizes, "history": history,
                  "patch": _patch(meta.get("patch"))}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:

@@ -5,14 +5,16 @@ wings are the parts before pre[0] (grown from end 0) and after pre[1]
 (grown from end 1). An end's state: "tip" (may grow), "joined" (ended on
 another fracture as a T), "boundary" (on the outer boundary: an edge-crack
 mouth or a wing that reached it). A joined end records the fracture it
-met in `joined_to`; fractures linked that way are hydraulically connected
-(connect_pressures).
+met in `joined_to`; fractures linked that way, and those that cross (the
+set's `links`), are hydraulically connected (connect_pressures).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+
+from meshing import admissibility
 
 
 @dataclass
@@ -84,18 +86,35 @@ class GrowingFracture:
 
 @dataclass
 class FractureSet:
+    """The fractures; links: pairs (i, j) of fractures whose given parts cross
+    or touch away from an end (an X, a vertex on the other; crossings(): the
+    case's), hydraulically connected as the fractures that joined_to links."""
     fractures: list = field(default_factory=list)
+    links: list = field(default_factory=list)
 
     @classmethod
     def from_case(cls, case) -> "FractureSet":
+        """The case's fractures, each end as growth would have left it: on the
+        boundary "boundary", on a fracture "joined" (a T-junction, or met end
+        to end; joined_to the fracture met: meshing.admissibility.joined_ends,
+        the mesher's own reading), else "tip"."""
         tol = 1e-9 * case.length_scale
+        net = admissibility.joined(case.domain, [np.asarray(f.points, float) for f in case.fractures])
+        joined = net.joined_ends()
         out = []
-        for f in case.fractures:
+        for i, f in enumerate(case.fractures):
             pts = np.asarray(f.points, float).copy()
-            ends = ["boundary" if case.domain.on_boundary(p, tol) else "tip" for p in (pts[0], pts[-1])]
+            ends = ["boundary" if case.domain.on_boundary(p, tol) else "joined" if (i, e) in joined else "tip"
+                    for e, p in enumerate((pts[0], pts[-1]))]
             out.append(GrowingFracture(pts, (0, len(pts) - 1), ends, f.faces, f.gap, f.slip,
-                                       f.slip_profile, f.grow, f.friction, f.cohesion, f.pressure))
-        return cls(out)
+                                       f.slip_profile, f.grow, f.friction, f.cohesion, f.pressure,
+                                       joined_to=[joined.get((i, e)) for e in (0, 1)]))
+        return cls(out, crossings(net))
+
+    @staticmethod
+    def case_links(case) -> list:
+        """The links of the case's fractures (crossings), as from_case makes them."""
+        return crossings(admissibility.joined(case.domain, [np.asarray(f.points, float) for f in case.fractures]))
 
     def polylines(self) -> list:
         return [f.points for f in self.fractures]
@@ -107,7 +126,7 @@ class FractureSet:
 
     def copy(self) -> "FractureSet":
         return FractureSet([replace(f, points=f.points.copy(), ends=list(f.ends), joined_to=list(f.joined_to))
-                            for f in self.fractures])
+                            for f in self.fractures], list(self.links))
 
     def connected_groups(self) -> list:
         """The hydraulically connected groups: sorted lists of fracture
@@ -126,6 +145,8 @@ class FractureSet:
             for g in f.joined_to:
                 if g is not None:
                     parent[root(i)] = root(g)
+        for i, g in self.links:
+            parent[root(i)] = root(g)
         groups: dict = {}
         for i in range(n):
             groups.setdefault(root(i), []).append(i)
@@ -149,3 +170,16 @@ class FractureSet:
         fracture's pieces (wing at end 0, pre-existing part, wing at end 1)."""
         return [{"points": np.asarray(p, float).tolist(), "origin": o, "fracture": i}
                 for i, f in enumerate(self.fractures) for p, o in f.pieces()]
+
+
+def crossings(net) -> list:
+    """Sorted pairs (i, j), i < j, of the fractures that meet at a point where
+    neither has an end (an X; a vertex of one on the other) in the joined
+    network `net` (meshing.network.Joined)."""
+    out = set()
+    for members in net.nodes.values():
+        inner = sorted({f for f, v in members if 0 < v < len(net.polylines[f]) - 1})
+        for a in range(len(inner)):
+            for b in range(a + 1, len(inner)):
+                out.add((inner[a], inner[b]))
+    return sorted(out)

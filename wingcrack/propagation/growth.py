@@ -18,7 +18,7 @@ growth and its tip frame):
    joined_to (tip to tip: both ends), which connects the two hydraulically
    (FractureSet.connect_pressures);
 6. short straight growth moves the tip node, anything else adds a segment.
-After all tips: no two fractures cross (ComputationError otherwise).
+After all tips: growth made no two fractures cross (ComputationError otherwise).
 """
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from meshing import admissibility
+from meshing import admissibility, network
 
 import wingcrack_kernels as K
 from ..errors import ComputationError
@@ -255,22 +255,37 @@ def meet_tip_to_tip(fset, fi, p, reach):
     return p, None
 
 
-def crossing_pair(polys):
+def crossing_pair(polys, pre=None):
     """(i, j) of the first two polylines that cross (touching at a T or an
-    end is not crossing), or None."""
-    for i in range(len(polys)):
-        for j in range(i + 1, len(polys)):
-            a, b = polys[i], polys[j]
-            for s in range(len(a) - 1):
-                for r in range(len(b) - 1):
-                    hit, t, u, _ = K.segment_intersection(a[s], a[s + 1], b[r], b[r + 1], 1e-12)
-                    if hit and 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9:
-                        return i, j
+    end is not crossing), or None. pre: per polyline the (first, last)
+    vertex of its pre-existing part; two pre-existing parts may cross (the
+    case's network, which `check` accepts), so such crossings do not count.
+    Only segments near each other are measured (meshing.network's search)."""
+    polys = [np.asarray(p, float) for p in polys]
+    if len(polys) < 2:
+        return None
+    a, b, owner, index = network.segments(polys)
+    extent = float(np.ptp(np.concatenate([a, b]), axis=0).max()) or 1.0
+    i, j = network.near_segment_pairs(a, b, 1e-9 * extent)
+    keep = owner[i] != owner[j]
+    if pre is not None:
+        first = np.array([p[0] for p in pre], dtype=np.int64)
+        last = np.array([p[1] for p in pre], dtype=np.int64)
+
+        def is_pre(k):
+            return (index[k] >= first[owner[k]]) & (index[k] + 1 <= last[owner[k]])
+        keep &= ~(is_pre(i) & is_pre(j))
+    i, j = i[keep], j[keep]
+    for k in np.lexsort((index[j], index[i], owner[j], owner[i])):
+        hit, t, u, _ = K.segment_intersection(a[i[k]], b[i[k]], a[j[k]], b[j[k]], 1e-12)
+        if hit and 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9:
+            return int(owner[i[k]]), int(owner[j[k]])
     return None
 
 
 def check_no_crossing(fset) -> None:
-    """Fractures never cross (they may touch at T-junctions)."""
-    pair = crossing_pair(fset.polylines())
+    """Growth never makes fractures cross (they may touch at T-junctions;
+    pre-existing fractures may cross each other)."""
+    pair = crossing_pair(fset.polylines(), [f.pre for f in fset.fractures])
     if pair is not None:
         raise ComputationError(f"fractures {pair[0]} and {pair[1]} cross")
