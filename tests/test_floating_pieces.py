@@ -13,15 +13,17 @@ the uncut body's solution and the statics of a sliding block.
     beta cos beta, |tau| / |sigma_n| = tan beta. The piece is held (all pairs
     stuck, the uncut solution) exactly when tan beta <= friction, and slides
     along the fracture above.
-The cases are built with the fractures replaced after the case check (the
-check of touching and through-going fractures is the mesher's, tested in
-tests/test_admissibility.py), as tests/test_singular_guard.py does.
+Both are written as case files are (fractures meeting end to end, a fracture
+from boundary to boundary) and go through the case check; the last tests run
+them through the command line as a user does.
 """
-from dataclasses import replace
+import json
 
 import numpy as np
 import pytest
 
+from networks import to_toml
+from wingcrack import cli
 from wingcrack.case import Case
 from wingcrack.errors import ComputationError
 from wingcrack.io.faces import SLIP, STICK
@@ -34,31 +36,38 @@ E, NU = 1e10, 0.25
 ROUND_OFF = 1e-10
 
 
-def _case(fractures, bc, plane="strain", body=None, size=(2.0, 2.0)):
+def _case_dict(fractures, bc, plane="strain", body=None, size=(2.0, 2.0)):
     d = {"title": "floating", "material": {"E": E, "nu": NU, "KIc": 1e6, "plane": plane, "density": 2700.0},
          "domain": {"shape": "rectangle", "corner": [0.0, 0.0], "size": list(size)},
-         "fractures": [{"points": [[0.1 + 0.3 * i, 0.1], [0.2 + 0.3 * i, 0.2]], **f} for i, f in enumerate(fractures)],
+         "fractures": fractures,
          "bc": bc, "mesh": {"size": 0.2, "tip_size": 0.02}}
     if body:
         d["body"] = body
-    return Case.from_dict(d)
+    return d
 
 
-def _solve(case, polylines):
-    cuts = [replace(f, points=np.asarray(p, float)) for f, p in zip(case.fractures, polylines)]
-    d = discretise(case, cuts, Timer())
+def _case(*args, **kw):
+    return Case.from_dict(_case_dict(*args, **kw))
+
+
+def _solve(case):
+    d = discretise(case, case.fractures, Timer())
     d.solve(1.0)
     x = np.asarray(d.cm.x)
     return d, x, d.problem.nodal_displacements(np.arange(len(x)))
 
 
-def _block(faces, p=1e6, shear=0.0, body=None):
+def _block_dict(faces, p=1e6, shear=0.0):
     fr = {"faces": faces, **({"friction": 0.6} if faces == "coulomb" else {})}
     bc = [{"on": "top", "traction": [shear, -p]}, {"on": "bottom", "traction": [-shear, p]},
           {"on": "left", "traction": [p, -shear]}, {"on": "right", "traction": [-p, shear]},
           {"at": [0.0, 0.0], "displacement": [0.0, 0.0]}, {"at": [2.0, 0.0], "displacement_y": 0.0}]
     c = [[0.7, 0.7], [1.3, 0.7], [1.3, 1.3], [0.7, 1.3]]
-    return _solve(_case([fr] * 4, bc, body=body), [[c[i], c[(i + 1) % 4]] for i in range(4)])
+    return [{"points": [c[i], c[(i + 1) % 4]], **fr} for i in range(4)], bc
+
+
+def _block(faces, p=1e6, shear=0.0, body=None):
+    return _solve(_case(*_block_dict(faces, p, shear), body=body))
 
 
 @pytest.mark.parametrize("faces", ["coulomb", "frictionless"])
@@ -109,12 +118,15 @@ def test_a_block_whose_faces_all_open_is_loose_and_put_in_the_middle():
             assert np.min(moved) <= np.min(w) * (1 + 1e-9)
 
 
-def _strip(beta_deg, friction, p=1e6):
+def _strip_dict(beta_deg, friction, p=1e6):
     bc = [{"on": "left", "displacement_x": 0.0}, {"at": [0.0, 0.0], "displacement_y": 0.0},
           {"on": "right", "traction": [-p, 0.0]}]
-    case = _case([{"faces": "coulomb", "friction": friction}], bc, plane="stress", size=(2.0, 0.5))
     t = 0.25 * np.tan(np.radians(beta_deg))
-    return _solve(case, [[[1.0 + t, 0.0], [1.0 - t, 0.5]]])
+    return [{"points": [[1.0 + t, 0.0], [1.0 - t, 0.5]], "faces": "coulomb", "friction": friction}], bc
+
+
+def _strip(beta_deg, friction, p=1e6):
+    return _solve(_case(*_strip_dict(beta_deg, friction, p), plane="stress", size=(2.0, 0.5)))
 
 
 @pytest.mark.parametrize("offset", [-1.0, -0.1])
@@ -137,3 +149,54 @@ def test_a_strip_cut_across_slides_above_the_friction_angle(offset):
 def test_a_strip_pulled_at_its_end_is_pulled_away_from_the_fracture():
     with pytest.raises(ComputationError, match=r"the piece around \(1\.4\d*, 0\.25\) is pulled away from its faces"):
         _strip(20.0, 0.6, p=-1e6)
+
+
+def test_the_block_and_the_strip_as_a_user_runs_them(tmp_path, capsys):
+    """`check` accepts both networks; `sif` holds the block (every pair stuck) and a strip below the
+    friction angle, and fails at 1 degree above it with the mechanism named, in summary.json too."""
+    friction = 0.6
+    cases = {"block": _case_dict(*_block_dict("coulomb")),
+             "held": _case_dict(*_strip_dict(np.degrees(np.arctan(friction)) - 1.0, friction),
+                                plane="stress", size=(2.0, 0.5)),
+             "slides": _case_dict(*_strip_dict(np.degrees(np.arctan(friction)) + 1.0, friction),
+                                  plane="stress", size=(2.0, 0.5))}
+    for name, d in cases.items():
+        path = tmp_path / f"{name}.toml"
+        path.write_text(to_toml(d))
+        assert cli.main(["check", str(path), "--quiet"]) == 0
+        out = tmp_path / name
+        status = cli.main(["sif", str(path), "-o", str(out), "--quiet"])
+        summary = json.loads((out / "summary.json").read_text())
+        if name == "slides":
+            assert status == 1 and summary["status"].startswith("failed: step 0: the piece around (1.4")
+            assert "slides along fracture 0" in summary["status"]
+            assert "slides along fracture 0" in capsys.readouterr().err
+        else:
+            assert status == 0 and summary["status"] == "finished"
+            contact = summary["steps"][0]["contact"]
+            assert contact["stick"] == contact["pairs"] > 0 and contact["slip"] == 0
+
+
+def test_a_run_that_cuts_a_piece_off_stops_there_with_the_mechanism(tmp_path):
+    """A fracture from the top edge grows straight down (mode I under the right edge's tension) and
+    reaches the bottom at step 2; a second fracture, parallel to the tension, keeps a tip in the
+    run. Step 3's geometry leaves the right piece held by nothing (its faces are frictionless and
+    the load pulls it away): the run stops there, the end of the loading path, every step before it
+    kept, exit 0."""
+    d = {"title": "cut through", "material": {"E": E, "nu": NU, "KIc": 1e5, "plane": "strain"},
+         "domain": {"shape": "rectangle", "corner": [0.0, 0.0], "size": [1.0, 1.0]},
+         "fractures": [{"points": [[0.6, 1.0], [0.6, 0.1]], "faces": "frictionless"},
+                       {"points": [[0.15, 0.5], [0.35, 0.5]], "faces": "frictionless"}],
+         "bc": [{"on": "right", "traction": [1e6, 0.0]}, {"on": "left", "displacement_x": 0.0},
+                {"at": [0.0, 0.0], "displacement_y": 0.0}],
+         "mesh": {"size": 0.1, "tip_size": 0.01}, "propagation": {"steps": 20, "length": 0.03}}
+    path = tmp_path / "cut.toml"
+    path.write_text(to_toml(d))
+    out = tmp_path / "out"
+    assert cli.main(["run", str(path), "-o", str(out), "--quiet", "--no-plots"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    k = len(summary["steps"])
+    assert k >= 2 and summary["status"] == (f"stopped: step {k}: the body cannot carry the load: the piece "
+                                            "around (0.8, 0.5) is pulled away from its faces: contact cannot hold it")
+    assert any(t["state"] == "boundary" for t in summary["steps"][-1]["tips"])   # the cut closed in the step before
+    assert all((out / f"step_{i:04d}.vtu").exists() for i in range(k))
