@@ -57,3 +57,55 @@ def test_a_run_through_the_saddle_route_grows_as_the_dense_one(monkeypatch, tmp_
                                rtol=1e-9)
     for p, q in zip(sparse.polylines, dense.polylines):
         np.testing.assert_allclose(p, q, rtol=0, atol=1e-9)
+
+
+def test_a_set_near_the_factorised_one_is_solved_by_an_update_as_by_a_new_factorisation(monkeypatch):
+    """The cohesion case's active set changes hundreds of rows, then a few: the last sets are solved
+    through the factorisation kept (a rank-r update, fem.pair_saddle._updated). Against every set
+    factorised anew (REUSE_ROWS = 0): two direct solves of the same systems, the same states, forces to
+    round-off (the update's residual is checked against a direct solve's, UPDATE_RESIDUAL)."""
+    from wingcrack.fem import pair_saddle
+
+    case = Case.from_toml(CASES / "parallel_fractures_cohesion.toml")
+    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    kept = step.solve_initial(case)
+    monkeypatch.setattr(pair_saddle, "REUSE_ROWS", 0)
+    anew = step.solve_initial(case)
+    s, t = kept.contact.saddle, anew.contact.saddle
+    assert s.updates >= 1 and s.factorisations < t.factorisations and t.updates == 0
+    a, b = anew.contact.result, kept.contact.result
+    np.testing.assert_array_equal(b.state, a.state)
+    np.testing.assert_allclose(b.mu, a.mu, rtol=0, atol=1e-10 * np.abs(a.mu).max())
+    np.testing.assert_allclose(b.jump, a.jump, rtol=0, atol=1e-10 * np.abs(a.jump).max())
+
+
+class _Factor:
+    def __init__(self, infog):
+        self.infog = infog
+
+    def getMumpsInfog(self, i):
+        return self.infog.get(i, 0)
+
+
+class _Ksp:
+    def __init__(self, infog):
+        self.factor = _Factor(infog)
+
+    def getPC(self):
+        return self
+
+    def getFactorMatrix(self):
+        return self.factor
+
+
+def test_a_factorisation_that_runs_out_of_memory_says_so():
+    """MUMPS's INFOG(1) read for the user: memory (with the analysis's estimate), singular, other."""
+    from types import SimpleNamespace
+
+    from wingcrack.fem.pair_saddle import _factor_failure
+
+    err = SimpleNamespace(ierr=76)
+    text = _factor_failure(_Ksp({1: -13, 2: 123456, 17: 20480}), err)
+    assert text.startswith("contact: out of memory") and "about 20.0 GB" in text and "PETSc" not in text
+    assert "singular" in _factor_failure(_Ksp({1: -10}), err)
+    assert "MUMPS error -5" in _factor_failure(_Ksp({1: -5}), err)

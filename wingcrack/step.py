@@ -384,8 +384,9 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
         far = FarField.start(problem, cm)
         started = far is not None
     timer.lap("patch")
-    progress.doing(f"factorising the stiffness ({fm.num_dofs} DOFs, {len(rows)} pair rows)")
-    problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) and not saddle else None, far=far)
+    if not saddle:   # the saddle-point route factorises K with the contact rows, K alone never
+        progress.doing(f"factorising the stiffness ({fm.num_dofs} DOFs, {len(rows)} pair rows)")
+        problem.factorize(schur_dofs=PairOperator.pair_dofs(fm, rows) if len(rows) else None, far=far)
     timer.lap("factorize")
     if far is not None and not problem.reused_far:   # other supports in the far field: factorised whole
         if started:

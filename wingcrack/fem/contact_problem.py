@@ -95,9 +95,9 @@ class ContactProblem:
         the normal rows the active set starts in contact (default: those
         penetrating without contact forces)."""
         p = self.problem
-        p.solve(load_factor, expand=False)   # u on a far interior when it is read (ElasticProblem.expand)
         if self.saddle is not None:
             return self._solve_saddle(load_factor, active)
+        p.solve(load_factor, expand=False)   # u on a far interior when it is read (ElasticProblem.expand)
         if self.op is None:
             return None
         rows = self.rows
@@ -122,9 +122,10 @@ class ContactProblem:
         """solve() through fem.pair_saddle: each state set with the elasticity
         whole; u becomes the accepted set's."""
         p, rows, sd = self.problem, self.rows, self.saddle
+        b = p.prepare(load_factor)
         u = p.u
         n = sd.n_owned
-        jump0 = sd.jumps(u.vector.getArray(readonly=True)[:n])
+        jump0 = sd.jumps(sd.unconstrained(b))   # K's solution: the set with every row open
         slip = rows.slip * p.loads.bc_factor(load_factor)
         target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
         law = rows.friction_law()

@@ -417,9 +417,7 @@ class ElasticProblem:
         is valid off it)."""
         if not self._factored:
             self.factorize()
-        b = self.assemble_rhs(load_factor)
-        self.load_factor_solved = float(load_factor)   # what u belongs to (the face pressure of the SIFs)
-        self._deferred, self._b_I = False, None
+        b = self.prepare(load_factor)
         if not self._from_span(b):
             self.solve_vector(b, self._u.vector, expand=False)
             self._remember(b)
@@ -432,6 +430,15 @@ class ElasticProblem:
             self._deferred = True
             self._require_finite(self._u.x.array[c.R])
         return self.u if expand else self._u
+
+    def prepare(self, load_factor: float) -> PETSc.Vec:
+        """The right-hand side at `load_factor`, u to be set by the caller
+        (the contact's saddle-point route solves K and the contact as one
+        system, with no factorisation of K alone)."""
+        b = self.assemble_rhs(load_factor)
+        self.load_factor_solved = float(load_factor)   # what u belongs to (the face pressure of the SIFs)
+        self._deferred, self._b_I = False, None
+        return b
 
     def _from_span(self, b: PETSc.Vec) -> bool:
         """u from the kept solutions where b lies in their span (collective)."""
@@ -512,6 +519,9 @@ def cholesky(solver: PETSc.KSP, schur_dofs=None, num_dofs: int | None = None) ->
         null_pivots = F.getMumpsInfog(28) + F.getMumpsInfog(12)
     except PETSc.Error as err:
         from ..errors import ComputationError
+        from .mumps_failure import MEMORY, describe
+        if F.getMumpsInfog(1) in MEMORY:
+            raise ComputationError(describe(solver, err, "the stiffness matrix", singular="")) from None
         raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "
                                "singular or not positive definite; a fracture may cut off a piece of the body "
                                "that no boundary condition holds") from None

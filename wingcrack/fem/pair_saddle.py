@@ -15,7 +15,17 @@ with, for each row j: an equality row (closed normal, sticking, prescribed)
 B_j^T u = target_j; a slipping row mu_j + sign_j f_j mu_p = -sign_j c_j
 (p its normal row); an open row mu_j = 0. The upper block is the same for
 every set, the lower rows change values, not places: one pattern, factorised
-by MUMPS (LU) per set. The jumps are B^T u.
+by MUMPS (LU). The jumps are B^T u.
+
+The active set's first iterations change thousands of rows, its last ones a
+few (a network of 300 fractures: 10,184 rows, then 3,578, 182, 10, 8, 2
+changed): a set whose lower rows differ from the factorised set's in r rows
+is that matrix plus a rank-r change, solved through the factorisation kept
+(the Sherman-Morrison-Woodbury formula, below) with one solve for the right-
+hand side and one for each row not changed before; the factorisation is
+renewed when a set changes more rows than REUSE_ROWS, or than the memory
+of their columns allows (REUSE_BYTES), or when the update's residual is not
+that of a direct solve.
 
 The u block keeps the DOLFINx dof layout (rows and columns by global dof);
 the m multiplier rows are the last rank's, after its own dofs, so that the
@@ -30,8 +40,24 @@ from petsc4py import PETSc
 from scipy import sparse
 
 from ..errors import ComputationError
+from . import mumps_failure
+from .solution_span import SolutionSpan
 
 _PREFIX = "wingcrack_saddle_"
+#: at most this many changed rows are solved by an update of the factorisation kept. On 1.1M DOFs a
+#: numeric factorisation costs 5.3 s, one solve 0.76 s, a column of F^-1 0.12 s among 40 solved together
+#: (_columns): an update with 60 new columns costs about a factorisation, and its columns serve the sets
+#: after it (the last sets change the same few rows back and forth)
+REUSE_ROWS = 60
+#: and at most this many bytes of those columns on a process (a column is 8 bytes a local dof)
+REUSE_BYTES = 1 << 30
+#: columns solved together (their right-hand sides and solutions are two dense blocks of this width)
+BLOCK = 16
+#: an update whose residual exceeds this times ||F|| ||x|| + ||b|| (infinity norms; a direct solve's is
+#: ~1e-16 of it) is not trusted: the set is factorised instead
+UPDATE_RESIDUAL = 1e-11
+#: nor one whose capacitance matrix I + D Z is this ill-conditioned (the set near singular)
+UPDATE_CONDITION = 1e10
 
 
 class PairSaddle:
@@ -93,8 +119,8 @@ class PairSaddle:
         Kc = sparse.csr_matrix((values, indices, indptr), shape=(self.n_owned, n_global + m))
         Bf = sparse.csr_matrix((-val[free], (di[free], n_global + rj[free])), shape=(self.n_owned, n_global + m))
         upper = (Kc + Bf).tocsr()
+        del Kc, Bf, indptr, indices, values
         upper.sort_indices()
-        self._upper = upper
         self.partner = np.asarray(rows.partner, np.int64)
         self.rows = rows
         if last:
@@ -104,13 +130,13 @@ class PairSaddle:
         else:
             M = upper
         M.sort_indices()
-        self._nnz_upper = len(upper.data)
+        del upper
         n_local = self.n_owned + (m if last else 0)
         it = PETSc.IntType
         self.M = PETSc.Mat().createAIJ(size=((n_local, n_global + m), (n_local, n_global + m)),
                                        csr=(M.indptr.astype(it), M.indices.astype(it), M.data), comm=comm)
         self.M.assemble()
-        self._csr = M
+        del M   # PETSc holds the matrix; a set changes the lower rows only (_set_lower)
         self.ksp = PETSc.KSP().create(comm)
         self.ksp.setOptionsPrefix(_PREFIX)
         self.ksp.setType("preonly")
@@ -120,6 +146,32 @@ class PairSaddle:
         self.ksp.setOperators(self.M)
         self.x, self.rhs = self.M.createVecs()
         self.factorisations = 0
+        self.updates = 0      # sets solved by an update of the factorisation kept
+        self.columns = 0      # solves of columns of F^-1 for them
+        self._factored = None  # the lower rows' values of the factorised set (last rank; True elsewhere)
+        self._Z = {}           # row j -> F^-1 e_(n + j): (owned part, its values at the lower columns)
+        self._gather_columns(last)
+        self._span = SolutionSpan(self.n_owned, self.n_owned, 2, comm)   # K^-1 b of the last loads (unconstrained)
+
+    def _gather_columns(self, last: bool) -> None:
+        """A scatter of a vector's entries at the lower rows' columns to the
+        last rank (D x of an update, D a difference of lower rows), and the
+        position of each lower pattern entry among them."""
+        if last:
+            cols = np.unique(self._lower_pattern.indices).astype(np.int64)
+            self._pos = np.searchsorted(cols, self._lower_pattern.indices)
+        else:
+            cols = np.zeros(0, np.int64)
+        self._cols = cols
+        self._seq = PETSc.Vec().createSeq(len(cols), comm=PETSc.COMM_SELF)
+        index = PETSc.IS().createGeneral(cols.astype(PETSc.IntType), comm=self.comm)
+        self._scatter = PETSc.Scatter().create(self.x, index, self._seq, None)
+        index.destroy()
+
+    def _at_columns(self, vec: PETSc.Vec) -> np.ndarray:
+        """vec's entries at the lower rows' columns, on the last rank (empty elsewhere). Collective."""
+        self._scatter.scatter(vec, self._seq, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        return self._seq.getArray(readonly=True).copy()
 
     def _lower(self, eq, coef, diag, pattern=False) -> sparse.csr_matrix:
         """The m lower rows (global columns): B^T on equality rows, `diag` on
@@ -145,46 +197,178 @@ class PairSaddle:
         """B^T u (every row), on every rank."""
         return self.comm.allreduce(self.B.T @ u_owned)
 
+    def unconstrained(self, b: PETSc.Vec) -> np.ndarray:
+        """K^-1 b on this rank's owned dofs: the set with every row open (mu =
+        0), through this system's factorisation (K is not factorised alone);
+        from the kept solutions where b lies in their span (the loads are
+        affine in the load factor: two such solves a mesh at most). Collective."""
+        b_owned = b.getArray(readonly=True)[:self.n_owned]
+        u = self._span.find(b_owned)
+        if u is None:
+            none = np.zeros(self.m, bool)
+            u, _ = self.solve_set(none, none, np.zeros(self.m), np.zeros(self.m), np.zeros(self.m),
+                                  np.zeros(self.m), b)
+            self._span.add(b_owned, u)
+        return u
+
     def solve_set(self, eq, slip, sign, f, b0_cohesive, target, b: PETSc.Vec):
         """(u owned (n_owned,), mu (m,)) of one state set: eq (m,) bool equality rows; slip (m,) bool
         slipping rows with sign, friction f and cohesion force b0_cohesive (0 where the pair holds none);
         the rest open. b: the assembled load (the problem's right-hand side). Collective."""
-        m = self.m
         coef = np.where(slip, sign * f, 0.0)
         coef = np.where(slip & (self.partner >= 0), coef, 0.0)
         diag = np.where(eq, 0.0, 1.0)
         low_rhs = np.where(eq, target, np.where(slip, -sign * b0_cohesive, 0.0))
-        data = self._csr.data
-        if self.owns_mu:
-            # the lower rows' values in the fixed pattern's order (the pattern holds every place)
-            data = data.copy()
-            data[self._nnz_upper:] = _values_on(self._lower_pattern, self._lower(eq, coef, diag))
-        self.M.setValuesCSR(self._csr.indptr.astype(PETSc.IntType), self._csr.indices.astype(PETSc.IntType), data)
-        self.M.assemble()
-        self.ksp.setOperators(self.M)
         arr = self.rhs.getArray()
         arr[:self.n_owned] = b.getArray(readonly=True)[:self.n_owned]
+        low = None
         if self.owns_mu:
             arr[self.n_owned:] = low_rhs
-        try:
-            self.ksp.setUp()
-            self.ksp.solve(self.rhs, self.x)
-        except PETSc.Error as err:
-            raise ComputationError(f"contact: the saddle-point system of a state set could not be factorised "
-                                   f"(PETSc error {err.ierr}): its closed pairs leave it singular") from None
-        self.factorisations += 1
-        if self.ksp.getConvergedReason() < 0:
-            raise ComputationError("contact: the saddle-point solve of a state set failed")
-        x = self.x.getArray(readonly=True)
+            low = _values_on(self._lower_pattern, self._lower(eq, coef, diag))
+        x = self._updated(low)
+        if x is None:
+            x = self._factorised(low)
         u = x[:self.n_owned].copy()
         mu = self.comm.bcast(x[self.n_owned:].copy() if self.owns_mu else None, root=self.comm.size - 1)
         if not (np.all(np.isfinite(u)) and np.all(np.isfinite(mu))):
             raise ComputationError("contact: the saddle-point system of a state set is singular (NaN)")
         return u, mu
 
-    def destroy(self) -> None:
-        for obj in (self.ksp, self.M, self.x, self.rhs):
+    def _factorised(self, low) -> np.ndarray:
+        """The set's solution (this rank's entries) by a new factorisation of
+        the matrix with lower rows `low` (pattern order, last rank)."""
+        self._set_lower(low)
+        self.ksp.setOperators(self.M)
+        try:
+            self.ksp.setUp()
+        except PETSc.Error as err:
+            raise ComputationError(_factor_failure(self.ksp, err)) from None
+        self.factorisations += 1
+        self._norm = self.M.norm(PETSc.NormType.INFINITY)
+        self._factored = low if self.owns_mu else True
+        self._Z = {}
+        self._solve(self.rhs, self.x)
+        return self.x.getArray(readonly=True).copy()
+
+    def _set_lower(self, low) -> None:
+        """The lower rows' values (last rank's); collective (assembly)."""
+        if self.owns_mu:
+            P = self._lower_pattern
+            for i in range(self.m):
+                a, z = P.indptr[i], P.indptr[i + 1]
+                self.M.setValues(self.n_global + i, P.indices[a:z], low[a:z], PETSc.InsertMode.INSERT_VALUES)
+        self.M.assemble()
+
+    def _solve(self, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
+        self.ksp.solve(rhs, out)
+        if self.ksp.getConvergedReason() < 0:
+            raise ComputationError("contact: the saddle-point solve of a state set failed")
+
+    def _updated(self, low):
+        """The set's solution through the factorisation kept, where the set
+        differs from the factorised one in few rows; None where it must be
+        factorised. M = F + E^T D (E: the r changed rows, D: their change),
+        M^-1 b = y - Z (I + D Z)^-1 D y with y = F^-1 b, Z = F^-1 E^T; each
+        column of Z is solved once and kept while F is. Collective."""
+        if self._factored is None:
+            return None
+        changed = None
+        if self.owns_mu:
+            diff = low - self._factored
+            changed = np.flatnonzero(np.add.reduceat(np.abs(diff), self._lower_pattern.indptr[:-1]) > 0.0) \
+                if len(diff) else np.zeros(0, np.int64)
+        changed = self.comm.bcast(changed, root=self.comm.size - 1)
+        new = [j for j in changed.tolist() if j not in self._Z]
+        kept = len(self._Z) + len(new)
+        if len(changed) > REUSE_ROWS or kept * 8 * len(self.x.getArray(readonly=True)) > REUSE_BYTES:
+            return None
+        y = self.x
+        if not len(changed):
+            self._solve(self.rhs, y)
+            return y.getArray(readonly=True).copy()
+        for a in range(0, len(new), BLOCK):
+            self._columns(new[a:a + BLOCK])
+        e = self.rhs.duplicate()
+        self._solve(self.rhs, y)
+        x = y.getArray(readonly=True).copy()
+        yc = self._at_columns(y)
+        c = None
+        if self.owns_mu:
+            D = self._difference(diff, changed)
+            Zc = np.stack([self._Z[j][1] for j in changed], axis=1)
+            C = np.eye(len(changed)) + D @ Zc
+            cond = np.linalg.cond(C)
+            c = np.linalg.solve(C, D @ yc) if cond < UPDATE_CONDITION else None
+        c = self.comm.bcast(c, root=self.comm.size - 1)
+        if c is None:
+            e.destroy()
+            return None
+        x -= np.stack([self._Z[j][0] for j in changed], axis=1) @ c
+        ok = self._residual_ok(x, diff if self.owns_mu else None, changed, e)
+        e.destroy()
+        if not ok:
+            return None
+        self.updates += 1
+        return x
+
+    def _columns(self, rows) -> None:
+        """Z's columns F^-1 e_(n + j) of `rows`, by one solve of as many
+        right-hand sides (MUMPS solves them together: 40 cost as much as 6
+        single solves on 1.1M DOFs)."""
+        N, k = self.x.getSize(), len(rows)
+        n_local = self.x.getLocalSize()
+        B = PETSc.Mat().createDense(((n_local, N), (None, k)), comm=self.comm)
+        B.setUp()
+        if self.owns_mu:
+            for c, j in enumerate(rows):
+                B.setValue(self.n_global + j, c, 1.0)
+        B.assemble()
+        X = PETSc.Mat().createDense(((n_local, N), (None, k)), comm=self.comm)
+        X.setUp()
+        X.assemble()
+        self.ksp.getPC().getFactorMatrix().matSolve(B, X)
+        column = self.x.duplicate()
+        for c, j in enumerate(rows):
+            X.getColumnVector(c, column)
+            self._Z[j] = (column.getArray(readonly=True).copy(), self._at_columns(column))
+        self.columns += k
+        for obj in (B, X, column):
             obj.destroy()
+
+    def _difference(self, diff, changed) -> sparse.csr_matrix:
+        """D (r, columns gathered): the changed rows' change, on the gathered columns (last rank)."""
+        P = self._lower_pattern
+        counts = np.diff(P.indptr)[changed]
+        take = np.concatenate([np.arange(P.indptr[j], P.indptr[j + 1]) for j in changed])
+        row = np.repeat(np.arange(len(changed)), counts)
+        return sparse.csr_matrix((diff[take], (row, self._pos[take])), shape=(len(changed), len(self._cols)))
+
+    def _residual_ok(self, x, diff, changed, work: PETSc.Vec) -> bool:
+        """|M x - b| within UPDATE_RESIDUAL of a direct solve's scale: M x = F x + E^T (D x). Collective."""
+        xv = self.x
+        xv.getArray()[:] = x
+        xv.assemble()
+        self.M.mult(xv, work)   # M still holds F's values: only the factorised set's lower rows are set
+        r = work.getArray()
+        r -= self.rhs.getArray(readonly=True)
+        xc = self._at_columns(xv)
+        if self.owns_mu:
+            r[self.n_owned + changed] += self._difference(diff, changed) @ xc
+        res = self.comm.allreduce(float(np.max(np.abs(r), initial=0.0)), op=MPI.MAX)
+        scale = self._norm * xv.norm(PETSc.NormType.INFINITY) + self.rhs.norm(PETSc.NormType.INFINITY)
+        return res <= UPDATE_RESIDUAL * scale
+
+    def destroy(self) -> None:
+        for obj in (self.ksp, self.M, self.x, self.rhs, self._seq, self._scatter):
+            obj.destroy()
+        self._Z = {}
+
+
+def _factor_failure(ksp, err) -> str:
+    """What stopped MUMPS's factorisation of a set (fem.mumps_failure)."""
+    return mumps_failure.describe(ksp, err, "the saddle-point system of the pair rows",
+                                  singular="the saddle-point system of a state set is singular: its closed "
+                                           "pairs leave a motion free", prefix="contact: ")
 
 
 def _values_on(pattern: sparse.csr_matrix, values: sparse.csr_matrix) -> np.ndarray:
