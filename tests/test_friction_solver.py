@@ -288,3 +288,52 @@ def test_the_stalled_network_system_solves_fast():
     assert not res.fallback and res.broken == 0
     r = res.friction_residuals(np.ones(len(d["jump0"])))
     assert max(r.values()) < 1e-10, r
+
+
+def _recording(S, jump0, target, normal, law):
+    """A _Problem whose sets are solved through P.solve (as fem.pair_saddle's are), each set recorded."""
+    from wingcrack.contact.friction import _solve_set
+
+    P = _Problem.of(S, jump0, target, normal, ~normal & ~np.asarray(law.coulomb), law, None)
+    sets = []
+
+    def solve(A, T, sign, C):
+        mu, _ = _solve_set(P, A, T, sign, C)
+        sets.append((T.copy(), sign.copy(), jump0 + S @ mu - target))
+        return mu, jump0 + S @ mu
+
+    P.solve, P.c0 = solve, 1.0
+    return P, sets
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_slip_whose_increment_turns_back_sticks_before_it_reverses(sign):
+    """A pair whose solution sticks (the closed form: f = 0.5), started slipping either way: where the
+    increment of a slipping set runs against its direction the next set sticks, never the opposite slip
+    (straight to it, a fracture's pairs alternated between the two directions, each with its increment
+    against it, and the sets cycled: a network of 1,000 fractures); it ends at the closed form."""
+    from wingcrack.contact.friction import _active_set
+
+    S = np.array([[1.0, 0.3], [0.3, 2.0]])
+    jump0, target = np.array([-1.0, 0.8]), np.array([0.0, 0.1])
+    law, normal = _law(1, 0.5, 0.0)
+    P, sets = _recording(S, jump0, target, normal, law)
+    states = (np.array([True, False]), np.array([OPEN, SLIP], np.int8), np.array([0.0, sign]))
+    res = _active_set(P, 1.0, 1.0, 40, [], states=states)
+    assert res is not None and res.state[1] == STICK
+    for (T, s, inc), (T_next, s_next, _) in zip(sets, sets[1:]):
+        if T[1] == SLIP and s[1] * inc[1] < 0:
+            assert T_next[1] == STICK
+    if sign < 0:   # the free increment is +0.7: slipping the other way, the first set's increment turns back
+        assert sets[0][1][1] * sets[0][2][1] < 0
+    mu, _ = _one_pair(S, jump0, 0.0, 0.1, 0.5, 0.0)
+    np.testing.assert_allclose(res.mu, mu, rtol=1e-13, atol=1e-14)
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_pairs_without_cohesion_never_hold_one(seed):
+    """Whether faces touch (C) decides only where they hold a cohesion: on cohesionless pairs it stays
+    False, so that a face open by about the touching tolerance cannot make otherwise equal sets differ."""
+    S, jump0, target, normal, law = _random_problem(seed, c=0.0)
+    res = solve_friction(S, jump0, target, normal, law)
+    assert not np.any(res.cohesive)

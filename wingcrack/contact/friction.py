@@ -203,6 +203,7 @@ class _Problem:
     #: the solve of one state set, where S is not at hand (fem.pair_saddle): (A, T, sign, C) -> (mu, jump)
     solve: object = None
     c0: float = None   # the complementarity parameters' scale without S (N/m per m)
+    last_states: tuple = None   # (A, T, sign) the last iteration reached (where it cycled)
 
     @classmethod
     def of(cls, S, jump0, target, normal, prescribed, law, rigid):
@@ -275,10 +276,14 @@ def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, ma
         res = _active_set(P, P.c0, P.c0, max_iter, history, states=_start_states(start, P))
         if res is not None:
             return res
+    states = None
     for k in SCALINGS:
-        res = _active_set(P, P.c0 * k, P.c0 * k, max_iter, history, active)
+        # each scaling goes on from the sets where the last one cycled, not from the start: a set is a
+        # factorisation of the whole saddle system here, and the first ones change thousands of rows
+        res = _active_set(P, P.c0 * k, P.c0 * k, max_iter, history, active, states=states)
         if res is not None:
             return res
+        states = P.last_states
     raise ComputationError(f"contact: the active set cycles on a pair system of {len(P.jump0)} rows, above the "
                            f"size of its dense fallback")
 
@@ -485,7 +490,11 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
         T = np.full(m, OPEN, np.int8)
         sign = np.zeros(m)
     C = np.zeros(m, bool)
-    C[ci] = cohesive[ci] if fixed else (A[pi] | ((jump0 - target)[pi] <= 1.5 * P.touch))
+    # whether a pair touches matters only where it holds a cohesion: elsewhere (b0 = 0) C changes nothing,
+    # and a face open by about 1.5 tol flipped it between sets that are otherwise the same, so that they
+    # never repeated (a network of 1,000 cohesionless fractures cycled under every scaling on it)
+    cohesion = b0[ci] > 0
+    C[ci] = cohesive[ci] if fixed else (A[pi] | ((jump0 - target)[pi] <= 1.5 * P.touch)) & cohesion
     if states is None:
         T[ci] = np.where(A[pi] | (C[ci] & (b0[ci] > 0)), STICK, OPEN)
     seen = {_key(A, T, sign, C)}
@@ -509,7 +518,7 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
         A_new = normal & (mu - cn * gamma > 0)
         C_new = C.copy()
         if not fixed:
-            C_new[ci] = A_new[pi] | (gamma[pi] <= 1.5 * P.touch)
+            C_new[ci] = (A_new[pi] | (gamma[pi] <= 1.5 * P.touch)) & cohesion
         T_new = np.full(m, OPEN, np.int8)
         sign_new = np.zeros(m)
         F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
@@ -518,10 +527,13 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
         slipping = np.abs(z) > F + band
         direction = np.sign(z)
         # a slipping pair sticks again only when its increment turns against its direction by more than the
-        # band, as a sticking one slips only above the bound by more than it (see STATE_BAND)
+        # band, as a sticking one slips only above the bound by more than it (see STATE_BAND); and it sticks
+        # then, whatever its trial force: a slip that reverses goes through stick. Straight to the opposite
+        # slip, a fracture's pairs alternated between the two directions, each with the increment against
+        # it (a network of 1,000 fractures cycled so under every scaling; 74 of 720 random pair systems)
         was = T[ci] == SLIP
         keep = was & (sign[ci] * ct * (jump[ci] - target[ci]) >= -band)
-        slipping = np.where(was, keep | slipping, slipping)
+        slipping = np.where(was, keep, slipping)
         direction = np.where(keep, sign[ci], direction)
         closed = A_new[pi] | (C_new[ci] & (b0[ci] > 0))
         T_new[ci] = np.where(closed, np.where(slipping, SLIP, STICK), OPEN)
@@ -536,6 +548,7 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
                 return _result(P, mu, alpha, jump, A, T, C, history, fallback=fixed)
             return None
         key = _key(A_new, T_new, sign_new, C_new)
+        P.last_states = (A_new, T_new, sign_new)
         if key in seen:
             return None   # cycling
         seen.add(key)
