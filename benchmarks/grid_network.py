@@ -10,6 +10,11 @@ to find and the rules to measure.
     .venv/bin/python benchmarks/grid_network.py                # times check and planning
     .venv/bin/python benchmarks/grid_network.py --write FILE   # writes the case
     .venv/bin/python benchmarks/grid_network.py --cross        # a network with crossings
+    .venv/bin/python benchmarks/grid_network.py --sif OUTDIR   # runs `sif` on the Coulomb network
+
+--sif: the scale case of the network issue (1,000 Coulomb fractures, friction
+0.6, under 1 MPa of vertical compression) through `sif`, its phases' seconds
+(summary.json) and the process's peak memory printed.
 
 Printed: the seconds of Case.from_dict (everything `wingcrack check`
 computes) and of meshing.start_crack_mesh up to gmsh (the plan: mouths,
@@ -76,6 +81,33 @@ def case(n: int = 1000, seed: int = SEED, cross: bool = False) -> dict:
     }
 
 
+def coulomb(d: dict) -> dict:
+    """The network as the scale case: Coulomb faces, compression from the top, held below."""
+    for f in d["fractures"]:
+        f["faces"], f["friction"] = "coulomb", 0.6
+    d["bc"] = [{"on": "top", "traction": [0.0, -1e6]}, {"on": "bottom", "displacement_y": 0.0},
+               {"at": [0.0, 0.0], "displacement_x": 0.0}]
+    d["mesh"]["size"] = 0.2
+    return d
+
+
+def sif(d: dict, out: Path) -> None:
+    import json
+    import resource
+
+    import wingcrack
+
+    t0 = time.perf_counter()
+    wingcrack.sif(wingcrack.Case.from_dict(d), out, force=True)
+    wall = time.perf_counter() - t0
+    step = json.loads((out / "summary.json").read_text())["steps"][0]
+    phases = ", ".join(f"{k} {v:.1f}" for k, v in step["seconds"].items() if v >= 0.05)
+    c = step["contact"]
+    print(f"{len(d['fractures'])} Coulomb fractures: sif {wall:.1f} s ({phases}); {step['dofs']} DOFs, "
+          f"{c['rows']} pair rows, {c['iterations']} active sets; peak "
+          f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20:.1f} GB")
+
+
 def best(f, repeat: int) -> float:
     out = math.inf
     for _ in range(repeat):
@@ -92,8 +124,12 @@ def main() -> None:
     ap.add_argument("--cross", action="store_true", help="every other fracture long enough to cross its neighbours")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--write", type=Path, help="write the case as TOML here instead of timing")
+    ap.add_argument("--sif", type=Path, metavar="OUTDIR", help="run sif on the Coulomb network into OUTDIR")
     args = ap.parse_args()
     d = case(args.n, args.seed, args.cross)
+    if args.sif:
+        sif(coulomb(d), args.sif)
+        return
     if args.write:
         from admissibility_cases import to_toml
 
