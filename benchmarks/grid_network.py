@@ -97,15 +97,20 @@ def sif(d: dict, out: Path) -> None:
 
     import wingcrack
 
+    from mpi4py import MPI
+
     t0 = time.perf_counter()
     wingcrack.sif(wingcrack.Case.from_dict(d), out, force=True)
     wall = time.perf_counter() - t0
+    peak = MPI.COMM_WORLD.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)   # KiB, all ranks
+    if MPI.COMM_WORLD.rank:
+        return   # rank 0 writes the summary
     step = json.loads((out / "summary.json").read_text())["steps"][0]
     phases = ", ".join(f"{k} {v:.1f}" for k, v in step["seconds"].items() if v >= 0.05)
     c = step["contact"]
     print(f"{len(d['fractures'])} Coulomb fractures: sif {wall:.1f} s ({phases}); {step['dofs']} DOFs, "
-          f"{c['rows']} pair rows, {c['iterations']} active sets; peak "
-          f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20:.1f} GB")
+          f"{c['rows']} pair rows, {c['iterations']} active sets; {MPI.COMM_WORLD.size} process(es), "
+          f"peak {peak / 2**20:.1f} GB (summed)")
 
 
 def best(f, repeat: int) -> float:
