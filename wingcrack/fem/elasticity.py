@@ -513,13 +513,16 @@ def cholesky(solver: PETSc.KSP, schur_dofs=None, num_dofs: int | None = None) ->
     if schur_dofs is None and num_dofs < AMF_BELOW:
         ordering = _OPTIONS_PREFIX + "mat_mumps_icntl_7"
         options[ordering] = 2
+    from .mumps_failure import MEMORY, describe, failed
     try:
         solver.setUp()
+        if failed(solver) and F.getMumpsInfog(1) in MEMORY:   # PETSc records it as the PC's failure only
+            from ..errors import ComputationError
+            raise ComputationError(describe(solver, None, "the stiffness matrix", singular=""))
         # INFOG(28): null pivots; INFOG(12): negative pivots, which an SPD K never has
         null_pivots = F.getMumpsInfog(28) + F.getMumpsInfog(12)
     except PETSc.Error as err:
         from ..errors import ComputationError
-        from .mumps_failure import MEMORY, describe
         if F.getMumpsInfog(1) in MEMORY:
             raise ComputationError(describe(solver, err, "the stiffness matrix", singular="")) from None
         raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "

@@ -13,6 +13,14 @@ MEMORY = frozenset({-8, -9, -11, -13, -14, -15, -17, -19, -20, -22})
 SINGULAR = -10
 
 
+def failed(ksp) -> bool:
+    """Whether MUMPS's last phase on the KSP's factor failed (INFOG(1) < 0)."""
+    try:
+        return ksp.getPC().getFactorMatrix().getMumpsInfog(1) < 0
+    except (PETSc.Error, AttributeError):
+        return False
+
+
 def describe(ksp, err, what: str, singular: str, prefix: str = "") -> str:
     """The message of a failed factorisation of `what` by the KSP `ksp`
     (its PC's factor matrix holds MUMPS's INFOG); `singular`: the text for

@@ -243,6 +243,10 @@ class PairSaddle:
             self.ksp.setUp()
         except PETSc.Error as err:
             raise ComputationError(_factor_failure(self.ksp, err)) from None
+        # PETSc records a factorisation MUMPS refused (out of memory, singular) as the PC's failure, not
+        # an error: the solve would only say it diverged. MUMPS's INFOG(1) says what happened.
+        if mumps_failure.failed(self.ksp):
+            raise ComputationError(_factor_failure(self.ksp, None))
         self.factorisations += 1
         self._norm = self.M.norm(PETSc.NormType.INFINITY)
         self._factored = low if self.owns_mu else True

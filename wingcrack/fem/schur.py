@@ -57,7 +57,23 @@ def schur_complement(factor: PETSc.Mat, k: int) -> np.ndarray:
     status = ctypes.c_int()
     err = lib.MatFactorCreateSchurComplement(ctypes.c_void_p(factor.handle), ctypes.byref(S), ctypes.byref(status))
     if err:
-        raise RuntimeError(f"MatFactorCreateSchurComplement failed (PETSc error {err})")
+        from ..errors import ComputationError
+        from .mumps_failure import MEMORY
+        info = factor.getMumpsInfog(1)
+        if info in MEMORY:
+            raise ComputationError(f"out of memory: the factorisation of the stiffness with the pair dofs' Schur "
+                                   f"complement ({k} dofs) needs about {factor.getMumpsInfog(17) / 1024:.1f} GB "
+                                   f"(MUMPS error {info}); a coarser mesh (mesh.tip_size, mesh.size) or fewer "
+                                   "fractures need less")
+        # the factors exist: what failed is the dense (k, k) copy PETSc makes of it; whether that much
+        # memory is there, a block of its size says
+        size = f"{k} x {k}, {8 * k * k / 2**20:.0f} MB dense"
+        try:
+            np.ones(k * k)
+        except MemoryError:
+            raise ComputationError(f"out of memory: the pair dofs' Schur complement ({size}) does not fit; a "
+                                   "coarser mesh (mesh.tip_size, mesh.size) or fewer fractures need less") from None
+        raise ComputationError(f"the pair dofs' Schur complement ({size}) could not be formed (PETSc error {err})")
     arr = ctypes.POINTER(ctypes.c_double)()
     try:
         if lib.MatDenseGetArrayRead(S, ctypes.byref(arr)):
