@@ -266,3 +266,46 @@ if MPI.COMM_WORLD.rank == 0:
                           env=mpi_env(), timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().splitlines()[-1] == "True", proc.stdout
+
+
+_RESPOND = """
+import json, numpy as np
+import wingcrack.step as st
+from wingcrack.case import Case
+from wingcrack.contact.friction import OPEN, SLIP, STICK
+st.DENSE_ROWS = 0
+b = st.solve_initial(Case.from_toml({case!r}))
+res, rows, sd = b.contact.result, b.contact.rows, b.contact.saddle
+law = rows.friction_law()
+A = rows.normal & res.active
+T = np.where(rows.coulomb, res.state, OPEN).astype(np.int8)
+sign = np.where(T == SLIP, np.sign(-res.mu), 0.0)
+C = np.asarray(res.cohesive, bool)
+closed = np.flatnonzero(A)[:3]
+y = np.zeros(len(rows), bool)
+y[closed] = True
+y[np.isin(law.partner, closed) & rows.coulomb] = True
+eq = (rows.normal & A) | (~rows.normal & ~rows.coulomb) | (T == STICK)
+j, S = sd.respond(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), res.reference,
+                  b.problem.b, y)
+from mpi4py import MPI
+if MPI.COMM_WORLD.rank == 0:
+    print(json.dumps({{"j": j.tolist(), "S": S.tolist()}}))
+"""
+
+
+def test_the_saddle_routes_problem_of_some_rows_on_two_ranks_is_the_one_rank_one(tmp_path):
+    """PairSaddle.respond (friction._cycling_rows's compliance of the cycling rows: a block solve whose
+    columns live on both ranks, the jumps gathered) on two ranks against one: the same linear map to
+    round-off (against the dense route: tests/test_pair_saddle.py)."""
+    script = tmp_path / "respond.py"
+    script.write_text(_RESPOND.format(case=str(ROOT / "cases" / "multi_fractures_friction.toml")))
+    out = {}
+    for n in (1, 2):
+        proc = subprocess.run([MPIRUN, "-n", str(n), sys.executable, str(script)], capture_output=True, text=True,
+                              env=mpi_env(), timeout=300)
+        assert proc.returncode == 0, proc.stderr
+        out[n] = json.loads(proc.stdout.strip().splitlines()[-1])
+    S1, S2 = np.array(out[1]["S"]), np.array(out[2]["S"])
+    np.testing.assert_allclose(S2, S1, rtol=0, atol=1e-9 * np.abs(S1).max())
+    np.testing.assert_allclose(out[2]["j"], out[1]["j"], rtol=0, atol=1e-9 * np.abs(out[1]["j"]).max())

@@ -109,3 +109,43 @@ def test_a_factorisation_that_runs_out_of_memory_says_so():
     assert text.startswith("contact: out of memory") and "about 20.0 GB" in text and "PETSc" not in text
     assert "singular" in _factor_failure(_Ksp({1: -10}), err)
     assert "MUMPS error -5" in _factor_failure(_Ksp({1: -5}), err)
+
+
+def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
+    """PairSaddle.respond (the rows y free, every other row held in its state: their free jumps and
+    compliance, for friction._cycling_rows) against the same from the dense pair compliance S
+    (contact.friction's set solve with y open, a unit force on each row of y): two direct routes to
+    one linear map, equal to round-off (the pair system's condition ~1e5: 1e-9 is far above it)."""
+    import dataclasses
+
+    from wingcrack.contact.friction import OPEN, SLIP, STICK, _Problem, _solve_set
+
+    case = Case.from_toml(CASES / "multi_fractures_friction.toml")
+    dense = step.solve_initial(case)
+    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    sparse = step.solve_initial(case)
+    res, rows = dense.contact.result, dense.contact.rows
+    law, S, target = rows.friction_law(), dense.contact.op.S, res.reference
+    A = rows.normal & res.active
+    T = np.where(rows.coulomb, res.state, OPEN).astype(np.int8)
+    sign = np.where(T == SLIP, np.sign(-res.mu), 0.0)
+    C = np.asarray(res.cohesive, bool)
+    closed = np.flatnonzero(A)[:3]                       # three closed pairs: their normal and Coulomb rows
+    y = np.zeros(len(rows), bool)
+    y[closed] = True
+    y[np.isin(law.partner, closed) & rows.coulomb] = True
+    assert y.sum() == 6 and np.any(T[~y] == SLIP) and np.any(T[~y] == STICK)
+    P = _Problem.of(S, res.jump0, target, rows.normal, ~rows.normal & ~rows.coulomb, law, None)
+    A0, T0, s0 = A & ~y, np.where(y, OPEN, T).astype(np.int8), np.where(y, 0.0, sign)
+
+    def jumps(j0):
+        mu, _ = _solve_set(dataclasses.replace(P, jump0=j0), A0, T0, s0, C)
+        return (j0 + S @ mu)[y]
+
+    base = jumps(res.jump0)
+    S_y = np.stack([jumps(res.jump0 + S[:, k]) - base for k in np.flatnonzero(y)], axis=1)
+    eq = (rows.normal & A) | (~rows.normal & ~rows.coulomb) | (T == STICK)
+    j_s, S_s = sparse.contact.saddle.respond(eq, T == SLIP, sign, law.friction,
+                                             np.where(C, law.cohesion_force, 0.0), target, sparse.problem.b, y)
+    np.testing.assert_allclose(j_s, base, rtol=0, atol=1e-9 * np.abs(res.jump0).max())
+    np.testing.assert_allclose(S_s, S_y, rtol=0, atol=1e-9 * np.abs(S_y).max())

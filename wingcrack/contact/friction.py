@@ -204,6 +204,8 @@ class _Problem:
     solve: object = None
     c0: float = None   # the complementarity parameters' scale without S (N/m per m)
     last_states: tuple = None   # (A, T, sign) the last iteration reached (where it cycled)
+    cycle_rows: np.ndarray = None   # (m,) bool: the rows whose states the last cycle changed
+    last_C: np.ndarray = None       # (m,) the touching flags of the last converged set
 
     @classmethod
     def of(cls, S, jump0, target, normal, prescribed, law, rigid):
@@ -261,12 +263,15 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
 
 
 def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, max_iter: int = MAX_ITERATIONS,
-                  active=None, start: FrictionResult | None = None) -> FrictionResult:
+                  active=None, start: FrictionResult | None = None, respond=None) -> FrictionResult:
     """The contact problem where each state set is solved by `solve(A, T,
     sign, C) -> (mu, jump)` (fem.pair_saddle: the elasticity whole, no
     dense compliance), with the complementarity parameters c0: the same
-    three-state iteration, its scalings and its start. No dense fallback:
-    where every attempt cycles, ComputationError."""
+    three-state iteration, its scalings and its start. Where every scaling
+    cycles, the cycle's rows are solved as a dense problem of their own
+    (_cycling_rows: `respond(A, T, sign, C, rows) -> (jump0, S)` of those
+    rows with the others held in their states), at most SUBPROBLEM_ROUNDS
+    times; then ComputationError."""
     normal = np.asarray(normal, bool)
     coulomb = np.asarray(law.coulomb, bool)
     P = _Problem.of(None, jump0, target, normal, ~normal & ~coulomb, law, None)
@@ -284,8 +289,64 @@ def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, ma
         if res is not None:
             return res
         states = P.last_states
-    raise ComputationError(f"contact: the active set cycles on a pair system of {len(P.jump0)} rows, above the "
-                           f"size of its dense fallback")
+    for _ in range(SUBPROBLEM_ROUNDS if respond is not None else 0):
+        res = _cycling_rows(P, respond, max_iter, history)
+        if res is not None:
+            res.fallback = True
+            return res
+    raise ComputationError(f"contact: the active set cycles on a pair system of {len(P.jump0)} rows (on "
+                           f"{int(np.sum(P.cycle_rows)) if P.cycle_rows is not None else 0} of them), and so "
+                           "does the dense solve of those rows")
+
+
+#: the cycling rows' dense problems solve_by_sets tries before it gives up (each a full set more)
+SUBPROBLEM_ROUNDS = 4
+
+
+def _cycling_rows(P: _Problem, respond, max_iter, history) -> FrictionResult | None:
+    """The rows the last cycle changed, with their pairs' other rows (Y),
+    solved as a contact problem of their own by the dense solver and its
+    fallbacks (solve_friction), their compliance and free jumps with every
+    other row held in its state (respond); then the three-state iteration on
+    the others with Y's states frozen; then Y again on the others' new
+    states, until Y's states repeat (at most SUBPROBLEM_ROUNDS). None where
+    the others cycle, or Y's states do not repeat."""
+    A, T, sign = P.last_states
+    m = len(P.jump0)
+    ci, pi = P.ci, P.pi
+    y = np.array(P.cycle_rows, bool)
+    y[pi[y[ci]]] = True                     # a Coulomb row's normal row
+    y[ci[y[pi]]] = True                     # a normal row's Coulomb row
+    rows = np.flatnonzero(y)
+    law = P.law
+    b0 = np.asarray(law.cohesion_force, float)
+    where = np.full(m, -1, np.int64)
+    where[rows] = np.arange(len(rows))
+    partner = np.asarray(law.partner)[rows]
+    sub_law = FrictionRows(np.asarray(law.coulomb, bool)[rows], np.where(partner >= 0, where[np.maximum(partner, 0)], -1),
+                           np.asarray(law.friction, float)[rows], b0[rows])
+    C = np.zeros(m, bool)
+    C[ci] = (A[pi] | (T[ci] != OPEN)) & (b0[ci] > 0)
+    res, before = None, None
+    for _ in range(SUBPROBLEM_ROUNDS):
+        j0, S = respond(A, T, sign, C, y)
+        sub = solve_friction(S, j0, P.target[rows], P.normal[rows], sub_law)
+        A, T, sign, C = A.copy(), T.copy(), sign.copy(), C.copy()
+        A[rows] = P.normal[rows] & sub.active
+        state = getattr(sub, "state", None)   # None: no Coulomb row among them (the frictionless result)
+        if state is not None:
+            T[rows] = np.where(sub_law.coulomb, state, OPEN)
+            sign[rows] = np.where(T[rows] == SLIP, np.sign(-sub.mu), 0.0)
+            C[rows] = np.where(sub_law.coulomb, sub.cohesive, False)
+        now = _states(A, T, sign, C)[rows]
+        if res is not None and np.array_equal(now, before):
+            return res                        # Y's answer on the others' states is the one they were solved with
+        res = _active_set(P, P.c0, P.c0, max_iter, history, states=(A, T, sign), frozen=y, C_start=C)
+        if res is None:
+            return None
+        before = now
+        (A, T, sign), C = P.last_states, P.last_C
+    return None
 
 
 #: the rigid modes' jumps on the rows that hold (closed normal, sticking, prescribed) determine the
@@ -468,12 +529,15 @@ def _start_states(start: FrictionResult, P: _Problem) -> tuple:
     return A, T, sign
 
 
-def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None, cohesive=None):
+def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None, cohesive=None, frozen=None,
+                C_start=None):
     """The three-state iteration with complementarity parameters cn, ct,
     from `states` (A, T, sign) or else from the contact set `active`; None
     when the state sets cycle (or do not settle in max_iter). cohesive:
     (m,) the Coulomb rows that hold their cohesion, fixed (the fallback's
-    law); None: decided by each iterate's opening (see the module)."""
+    law); None: decided by each iterate's opening (see the module). frozen:
+    (m,) rows whose states (and C_start's touching flags) stay those of the
+    start (_cycling_rows: solved on their own)."""
     S, jump0, target, normal, law = P.S, P.jump0, P.target, P.normal, P.law
     m = len(jump0)
     coulomb = np.asarray(law.coulomb, bool)
@@ -497,7 +561,10 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
     C[ci] = cohesive[ci] if fixed else (A[pi] | ((jump0 - target)[pi] <= 1.5 * P.touch)) & cohesion
     if states is None:
         T[ci] = np.where(A[pi] | (C[ci] & (b0[ci] > 0)), STICK, OPEN)
-    seen = {_key(A, T, sign, C)}
+    if C_start is not None:
+        C = np.where(frozen, C_start, C) if frozen is not None else np.array(C_start, bool)
+    seen = {_key(A, T, sign, C): 0}
+    visited = [_states(A, T, sign, C)]
     load = max(np.max(np.abs(target - jump0), initial=0.0), 1e-300)
     alpha_last = None
     for it in range(1, max_iter + 1):
@@ -538,6 +605,9 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
         closed = A_new[pi] | (C_new[ci] & (b0[ci] > 0))
         T_new[ci] = np.where(closed, np.where(slipping, SLIP, STICK), OPEN)
         sign_new[ci] = np.where(T_new[ci] == SLIP, direction, 0.0)
+        if frozen is not None:
+            A_new, T_new = np.where(frozen, A, A_new), np.where(frozen, T, T_new)
+            sign_new, C_new = np.where(frozen, sign, sign_new), np.where(frozen, C, C_new)
         if np.array_equal(A_new, A) and np.array_equal(T_new, T) and np.array_equal(sign_new, sign) and \
                 np.array_equal(C_new, C):
             eq = A | P.prescribed | (coulomb & (T == STICK))
@@ -545,13 +615,18 @@ def _active_set(P: _Problem, cn, ct, max_iter, history, active=None, states=None
             if P.G.shape[1] and not _balanced(P, mu):
                 return None   # a least-squares set (a piece its closed pairs leave free) that no force balances
             if res <= RESIDUAL_RTOL * max(load, np.max(np.abs(jump), initial=0.0)):
+                P.last_states, P.last_C = (A, T, sign), C
                 return _result(P, mu, alpha, jump, A, T, C, history, fallback=fixed)
             return None
         key = _key(A_new, T_new, sign_new, C_new)
         P.last_states = (A_new, T_new, sign_new)
-        if key in seen:
-            return None   # cycling
-        seen.add(key)
+        if key in seen:   # cycling: the rows whose states the cycle's sets change
+            cycle = visited[seen[key]:]
+            P.cycle_rows = np.any(np.stack([c != cycle[0] for c in cycle[1:]] or [np.zeros_like(cycle[0])]),
+                                  axis=(0, 2))
+            return None
+        seen[key] = len(visited)
+        visited.append(_states(A_new, T_new, sign_new, C_new))
         A, T, sign, C = A_new, T_new, sign_new, C_new
     return None
 
@@ -582,6 +657,11 @@ def _labels(res: FrictionResult) -> np.ndarray:
     at = np.abs(res.mu[ci]) >= F * (1 - BOUND_RTOL)
     out[ci] = np.where(closed, np.where(at, SLIP, STICK), OPEN)
     return out
+
+
+def _states(A, T, sign, C) -> np.ndarray:
+    """(m, 4) a set's states, row by row."""
+    return np.stack([A.astype(np.int8), T.astype(np.int8), np.sign(sign).astype(np.int8), C.astype(np.int8)], axis=1)
 
 
 def _key(A, T, sign, C) -> bytes:

@@ -104,6 +104,7 @@ class PairSaddle:
         di, rj, val = cat(di).astype(np.int64), cat(rj).astype(np.int64), cat(val)
         self.B = sparse.csr_matrix((val, (di, rj)), shape=(self.n_owned, m))
         free = ~fixed[di]
+        self.B_free = sparse.csr_matrix((val[free], (di[free], rj[free])), shape=(self.n_owned, m))   # forces
         # the lower rows' u entries: every rank's B^T entries, on the last rank (global columns)
         gathered = comm.gather((rj, self.global_dof[di], val), root=comm.size - 1)
         if last:
@@ -215,6 +216,15 @@ class PairSaddle:
         """(u owned (n_owned,), mu (m,)) of one state set: eq (m,) bool equality rows; slip (m,) bool
         slipping rows with sign, friction f and cohesion force b0_cohesive (0 where the pair holds none);
         the rest open. b: the assembled load (the problem's right-hand side). Collective."""
+        low = self._prepare(eq, slip, sign, f, b0_cohesive, target, b)
+        x = self._updated(low)
+        if x is None:
+            x = self._factorised(low)
+        return self._parts(x)
+
+    def _prepare(self, eq, slip, sign, f, b0_cohesive, target, b: PETSc.Vec):
+        """The set's right-hand side into self.rhs; its lower rows' values
+        (pattern order, last rank; None elsewhere)."""
         coef = np.where(slip, sign * f, 0.0)
         coef = np.where(slip & (self.partner >= 0), coef, 0.0)
         diag = np.where(eq, 0.0, 1.0)
@@ -225,9 +235,10 @@ class PairSaddle:
         if self.owns_mu:
             arr[self.n_owned:] = low_rhs
             low = _values_on(self._lower_pattern, self._lower(eq, coef, diag))
-        x = self._updated(low)
-        if x is None:
-            x = self._factorised(low)
+        return low
+
+    def _parts(self, x):
+        """(u owned, mu (m,) on every rank) of a solution's entries on this rank."""
         u = x[:self.n_owned].copy()
         mu = self.comm.bcast(x[self.n_owned:].copy() if self.owns_mu else None, root=self.comm.size - 1)
         if not (np.all(np.isfinite(u)) and np.all(np.isfinite(mu))):
@@ -315,29 +326,56 @@ class PairSaddle:
         self.updates += 1
         return x
 
-    def _columns(self, rows) -> None:
-        """Z's columns F^-1 e_(n + j) of `rows`, by one solve of as many
-        right-hand sides (MUMPS solves them together: 40 cost as much as 6
-        single solves on 1.1M DOFs)."""
-        N, k = self.x.getSize(), len(rows)
+    def _block_solve(self, rhs: np.ndarray) -> list:
+        """F^-1 of k right-hand sides at once (this rank's rows, (n_local, k)):
+        MUMPS solves them together (40 cost as much as 6 single solves on
+        1.1M DOFs); a PETSc Vec of each solution, collective."""
+        N, k = self.x.getSize(), rhs.shape[1]
         n_local = self.x.getLocalSize()
         B = PETSc.Mat().createDense(((n_local, N), (None, k)), comm=self.comm)
         B.setUp()
-        if self.owns_mu:
-            for c, j in enumerate(rows):
-                B.setValue(self.n_global + j, c, 1.0)
+        B.getDenseArray()[:] = rhs
         B.assemble()
         X = PETSc.Mat().createDense(((n_local, N), (None, k)), comm=self.comm)
         X.setUp()
         X.assemble()
         self.ksp.getPC().getFactorMatrix().matSolve(B, X)
-        column = self.x.duplicate()
-        for c, j in enumerate(rows):
+        out = []
+        for c in range(k):
+            column = self.x.duplicate()
             X.getColumnVector(c, column)
-            self._Z[j] = (column.getArray(readonly=True).copy(), self._at_columns(column))
-        self.columns += k
-        for obj in (B, X, column):
+            out.append(column)
+        for obj in (B, X):
             obj.destroy()
+        return out
+
+    def _columns(self, rows) -> None:
+        """Z's columns F^-1 e_(n + j) of `rows`, solved together."""
+        rhs = np.zeros((self.x.getLocalSize(), len(rows)))
+        if self.owns_mu:
+            rhs[self.n_owned + np.asarray(rows, np.int64), np.arange(len(rows))] = 1.0
+        for j, column in zip(rows, self._block_solve(rhs)):
+            self._Z[j] = (column.getArray(readonly=True).copy(), self._at_columns(column))
+            column.destroy()
+        self.columns += len(rows)
+
+    def respond(self, eq, slip, sign, f, b0_cohesive, target, b: PETSc.Vec, y) -> tuple[np.ndarray, np.ndarray]:
+        """(jump0_y, S_yy): the jumps of the rows y (bool (m,)) and their
+        response to forces on them, with every other row in its state (the
+        arguments as solve_set's) and the rows y free (open): the pair
+        problem of the rows y alone (contact.friction._cycling_rows). One
+        factorisation of that set and one block solve of |y| loads. Collective."""
+        rows = np.flatnonzero(y)
+        # that set factorised itself (not updated): the loads' block solve goes through its factors
+        u0, _ = self._parts(self._factorised(self._prepare(eq & ~y, slip & ~y, sign, f, b0_cohesive, target, b)))
+        rhs = np.zeros((self.x.getLocalSize(), len(rows)))
+        rhs[:self.n_owned] = self.B_free[:, rows].toarray()   # a unit force on each row: B's column
+        S = np.zeros((len(rows), len(rows)))
+        for c, column in enumerate(self._block_solve(rhs)):
+            S[:, c] = self.jumps(column.getArray(readonly=True)[:self.n_owned])[rows]
+            column.destroy()
+        return self.jumps(u0)[rows], S
+
 
     def _difference(self, diff, changed) -> sparse.csr_matrix:
         """D (r, columns gathered): the changed rows' change, on the gathered columns (last rank)."""
