@@ -686,3 +686,44 @@ def test_from_dict_refuses_a_key_that_is_not_a_string():
     d["material"][5] = 1.0
     err = _error(d)
     assert err.key == "material.5" and "keys are strings" in err.reason
+
+
+def _same(a: Case, b: Case) -> bool:
+    """Equal cases, arrays bit for bit (a Case's fields hold arrays, so == is ambiguous); the file
+    read aside."""
+    import pickle
+    from dataclasses import replace
+
+    return pickle.dumps(replace(a, source=None)) == pickle.dumps(replace(b, source=None))
+
+
+def test_a_byte_order_mark_is_not_part_of_the_case(tmp_path):
+    """Editors on Windows begin UTF-8 files with a BOM: the case reads as without it (it said
+    "Invalid statement (at line 1, column 1)")."""
+    text = CASES[0].read_bytes()
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    plain, marked = tmp_path / "a" / "case.toml", tmp_path / "b" / "case.toml"
+    plain.write_bytes(text)
+    marked.write_bytes(b"\xef\xbb\xbf" + text)
+    assert _same(Case.from_toml(marked), Case.from_toml(plain))
+
+
+def test_numpy_scalars_are_the_numbers_they_hold():
+    """A Python user's numbers often come out of arrays (np.float32, np.int64, np.bool_): the case is
+    the one the same Python numbers give (np.float32 was refused: 'expected a number, got a float32');
+    a numpy NaN is refused as a Python one is."""
+    d = copy.deepcopy(BASE)
+    d["material"]["E"] = float(np.float32(7e10))   # the float32's value, exactly
+    d["mesh"]["adaptive"] = False
+    d["propagation"] = {"steps": 3}
+    n = copy.deepcopy(d)
+    n["material"]["E"] = np.float32(7e10)
+    n["material"]["nu"] = np.float64(d["material"]["nu"])
+    n["mesh"]["adaptive"] = np.bool_(False)
+    n["propagation"]["steps"] = np.int64(3)
+    n["fractures"][1]["points"] = [[np.float32(x) for x in p] for p in d["fractures"][1]["points"]]
+    assert _same(Case.from_dict(n), Case.from_dict(d))
+    n["material"]["nu"] = np.float64("nan")
+    with pytest.raises(CaseError, match="material.nu: must be a finite number"):
+        Case.from_dict(n)

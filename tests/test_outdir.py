@@ -59,7 +59,7 @@ def test_a_previous_result_is_refused_without_force(tmp_path, capsys, command):
     assert cli.main([command, str(CASE), "-o", str(tmp_path / "out")]) == 2
     line = error_line(capsys)
     assert line.startswith(f"wingcrack: error: {tmp_path / 'out'}: holds a previous result (")
-    assert "summary.json" in line and "3 step files" in line and line.endswith("use --force to replace it")
+    assert "summary.json" in line and "3 step files" in line and line.endswith("replace it with --force (force=True from Python)")
     assert contents(tmp_path / "out") == before
 
 

@@ -532,7 +532,9 @@ class Case:
         path = Path(path)
         raw = _read_file(path)
         try:
-            text = raw.decode("utf-8")
+            # "utf-8-sig": a byte-order mark (Windows editors write one) is not TOML, but not the
+            # user's text either: dropped, not refused as an invalid statement at line 1, column 1
+            text = raw.decode("utf-8-sig")
         except UnicodeDecodeError as err:
             line = raw.count(b"\n", 0, err.start) + 1
             column = err.start - (raw.rfind(b"\n", 0, err.start) + 1) + 1
@@ -629,7 +631,14 @@ def _read_file(path: Path) -> bytes:
 # ---------------------------------------------------------------- the reader
 
 
+def _scalar(v):
+    """A numpy scalar (np.float32, np.int64, np.bool_: what arrays hand a Python user) as the
+    Python value a TOML file would have given; anything else as it is."""
+    return v.item() if isinstance(v, np.generic) and v.shape == () else v
+
+
 def _what(v) -> str:
+    v = _scalar(v)
     if isinstance(v, bool):
         return "a boolean"
     if isinstance(v, (int, float)):
@@ -644,6 +653,7 @@ def _what(v) -> str:
 
 
 def _as_number(v, key: str) -> float:
+    v = _scalar(v)
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise CaseError(key, f"expected a number, got {_what(v)}")
     try:
@@ -664,12 +674,14 @@ def _as_point(v, key: str) -> tuple[float, float]:
 
 
 def _as_integer(v, key: str) -> int:
+    v = _scalar(v)
     if isinstance(v, bool) or not isinstance(v, int):
         raise CaseError(key, f"expected an integer, got {_what(v)}")
     return v
 
 
 def _as_boolean(v, key: str) -> bool:
+    v = _scalar(v)
     if not isinstance(v, bool):
         raise CaseError(key, f"expected true or false, got {_what(v)}")
     return v

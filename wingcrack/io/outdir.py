@@ -98,7 +98,7 @@ def prepare(out, force: bool = False) -> Path:
         raise FolderError(out, "is a file, not a folder")
     previous = result_files(out)
     if previous and not force:
-        raise FolderError(out, f"holds a previous result ({_names(previous)}); use --force to replace it")
+        raise FolderError(out, f"holds a previous result ({_names(previous)}); replace it with --force (force=True from Python)")
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
