@@ -340,11 +340,12 @@ def test_pairs_without_cohesion_never_hold_one(seed):
 
 
 def _by_sets(S, jump0, target, normal, law):
-    """contact.friction.solve_by_sets as the saddle route calls it (each set solved whole, no S at
+    """contact.by_sets.solve_by_sets as the saddle route calls it (each set solved whole, no S at
     hand), its sets and the cycling rows' problems solved here on the dense S."""
     import dataclasses
 
-    from wingcrack.contact.friction import _parameters, _solve_set, solve_by_sets
+    from wingcrack.contact.by_sets import solve_by_sets
+    from wingcrack.contact.friction import _parameters, _solve_set
 
     P = _Problem.of(S, jump0, target, normal, ~normal & ~np.asarray(law.coulomb), law, None)
 
@@ -372,7 +373,7 @@ def _by_sets(S, jump0, target, normal, law):
 def test_solved_set_by_set_every_pair_system_ends_with_the_law_held(p, f, cohesion):
     """The saddle route's iteration (solve_by_sets) on random pair systems: where every scaling cycles
     (about one system in ten) the cycling rows are solved as a dense problem of their own with the
-    others held, and the iteration goes on (friction._cycling_rows). Every system ends; the law holds to
+    others held, and the iteration goes on (by_sets._cycling_rows). Every system ends; the law holds to
     round-off; without cohesion the answer is the dense route's (a unique solution) to 1e-10. With
     cohesion the law is not single-valued where bonds break (README, Fracture contact), and the two
     fallbacks may break different ones: there the law is what is checked."""

@@ -295,7 +295,7 @@ if MPI.COMM_WORLD.rank == 0:
 
 
 def test_the_saddle_routes_problem_of_some_rows_on_two_ranks_is_the_one_rank_one(tmp_path):
-    """PairSaddle.respond (friction._cycling_rows's compliance of the cycling rows: a block solve whose
+    """PairSaddle.respond (by_sets._cycling_rows's compliance of the cycling rows: a block solve whose
     columns live on both ranks, the jumps gathered) on two ranks against one: the same linear map to
     round-off (against the dense route: tests/test_pair_saddle.py)."""
     script = tmp_path / "respond.py"

@@ -113,7 +113,7 @@ def test_a_factorisation_that_runs_out_of_memory_says_so():
 
 def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
     """PairSaddle.respond (the rows y free, every other row held in its state: their free jumps and
-    compliance, for friction._cycling_rows) against the same from the dense pair compliance S
+    compliance, for by_sets._cycling_rows) against the same from the dense pair compliance S
     (contact.friction's set solve with y open, a unit force on each row of y): two direct routes to
     one linear map, equal to round-off (the pair system's condition ~1e5: 1e-9 is far above it)."""
     import dataclasses

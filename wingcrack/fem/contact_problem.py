@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_by_sets, solve_friction
+from ..contact.by_sets import solve_by_sets
+from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_friction
 from .. import progress
 from ..errors import Collapse
 from .pair_operator import PairOperator
@@ -139,7 +140,7 @@ class ContactProblem:
             last["u"] = uu
             return mu, sd.jumps(uu)
 
-        def respond(A, T, sign, C, y):   # the rows y's own pair problem, the others held (friction._cycling_rows)
+        def respond(A, T, sign, C, y):   # the rows y's own pair problem, the others held (by_sets._cycling_rows)
             eq = (rows.normal & A) | prescribed | (T == STICK)
             return sd.respond(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), target, p.b, y)
 

@@ -363,7 +363,7 @@ class PairSaddle:
         """(jump0_y, S_yy): the jumps of the rows y (bool (m,)) and their
         response to forces on them, with every other row in its state (the
         arguments as solve_set's) and the rows y free (open): the pair
-        problem of the rows y alone (contact.friction._cycling_rows). One
+        problem of the rows y alone (contact.by_sets._cycling_rows). One
         factorisation of that set and one block solve of |y| loads. Collective."""
         rows = np.flatnonzero(y)
         # that set factorised itself (not updated): the loads' block solve goes through its factors
