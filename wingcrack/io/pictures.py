@@ -303,11 +303,22 @@ def outer_boundary(x: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 
 
 def _rosette(mesh, tips) -> float:
-    """The rosette radius: the farthest vertex of the triangles at a tip."""
+    """The rosette radius: the farthest vertex of the triangles at a tip
+    (the median over the tips). Linear in tips + cells: a network of 1,000
+    fractures has 2,000 tips on a mesh of 1.9M nodes."""
+    from scipy.spatial import cKDTree
+
     if mesh is None or not tips:
         return 0.0
     t = np.array([[p["x"], p["y"]] for p in tips])
-    node = np.argmin(np.linalg.norm(mesh.x[None, :, :] - t[:, None, :], axis=2), axis=1)
-    tri = mesh.triangles
-    r = [np.linalg.norm(mesh.x[tri[np.any(tri == n, axis=1)]] - mesh.x[n], axis=2).max() for n in node]
-    return float(np.median(r))
+    node, tip_node = np.unique(cKDTree(mesh.x).query(t)[1], return_inverse=True)
+    which = np.full(len(mesh.x), -1, np.int64)
+    which[node] = np.arange(len(node))
+    tri = np.asarray(mesh.triangles)
+    r = np.zeros(len(node))
+    for k in range(tri.shape[1]):   # each triangle with a tip node at corner k
+        at = np.flatnonzero(which[tri[:, k]] >= 0)
+        i = which[tri[at, k]]
+        d = np.linalg.norm(mesh.x[tri[at]] - mesh.x[node[i]][:, None, :], axis=2).max(axis=1)
+        np.maximum.at(r, i, d)
+    return float(np.median(r[tip_node]))
