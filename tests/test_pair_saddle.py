@@ -149,3 +149,23 @@ def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
                                              np.where(C, law.cohesion_force, 0.0), target, sparse.problem.b, y)
     np.testing.assert_allclose(j_s, base, rtol=0, atol=1e-9 * np.abs(res.jump0).max())
     np.testing.assert_allclose(S_s, S_y, rtol=0, atol=1e-9 * np.abs(S_y).max())
+
+
+def test_the_saddle_system_is_ordered_as_asked(monkeypatch):
+    """MUMPS analyses the saddle system with the ordering pair_saddle.ORDERING names (approximate minimum
+    fill, 2): PETSc 3.18 reads ICNTL(7) from the options database at the analysis, over what
+    MatMumpsSetIcntl set, so a value given the other way is silently replaced by MUMPS's own choice.
+    Asked for plain AMD (0) instead, MUMPS reports AMD (INFOG(7)): the setting reaches it; and the
+    option is gone from the database afterwards."""
+    from petsc4py import PETSc
+
+    from wingcrack.fem import pair_saddle
+
+    assert pair_saddle.ORDERING == 2
+    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    case = Case.from_toml(CASES / "three_fractures_friction.toml")
+    for ordering in (2, 0):
+        monkeypatch.setattr(pair_saddle, "ORDERING", ordering)
+        F = step.solve_initial(case).contact.saddle.ksp.getPC().getFactorMatrix()
+        assert F.getMumpsInfog(7) == ordering
+        assert not PETSc.Options().hasName(pair_saddle._PREFIX + "factor_mat_mumps_icntl_7")
