@@ -155,3 +155,36 @@ def test_a_variant_adds_missing_keys_and_tables():
                    "fractures": [{"steps": "not this one"}], "propagation": {"steps": 3, "load": "fixed"}}
     with pytest.raises(ValueError, match="fractures.points.x"):
         variant_text(text, {"fractures.points.x": 1})
+
+
+def test_the_identity_check_drops_timings_and_finds_every_other_difference(tmp_path):
+    """benchmarks/identical.py (the renovation's check that results stay bitwise the same): timings
+    ("seconds", wherever they sit) are dropped; a changed number, a file's changed byte, a file that
+    appeared and a changed exit code are each reported, and a re-run that only timed differently is not."""
+    import identical
+
+    def folder(name, vtu: bytes, extra=False):
+        d = tmp_path / name
+        d.mkdir()
+        (d / "step_0000.vtu").write_bytes(vtu)
+        (d / "fields.pvd").write_text("<pvd/>")
+        (d / "fractures.png").write_bytes(b"picture")   # pictures are not compared
+        if extra:
+            (d / "faces_0000.vtu").write_bytes(b"faces")
+        return d
+
+    summary = {"title": "t", "steps": [{"step": 0, "load_factor": 1.25, "seconds": {"mesh": 0.5}}]}
+    slower = {"title": "t", "steps": [{"step": 0, "load_factor": 1.25, "seconds": {"mesh": 0.9}}]}
+    moved = {"title": "t", "steps": [{"step": 0, "load_factor": 1.2500000000000002, "seconds": {"mesh": 0.5}}]}
+    a = identical.manifest_of(folder("a", b"vtu"), {"exit": 0, "summary": summary})
+    assert a["summary"] == {"title": "t", "steps": [{"step": 0, "load_factor": 1.25}]}
+    assert set(a["files"]) == {"step_0000.vtu", "fields.pvd"}
+    same = identical.manifest_of(folder("b", b"vtu"), {"exit": 0, "summary": slower})
+    assert identical.differences({"c": a}, {"c": same}) == []
+    other = identical.manifest_of(folder("c", b"vtU", extra=True), {"exit": 1, "summary": moved})
+    lines = identical.differences({"c": a}, {"c": other})
+    assert lines == ["c: exit 0 -> 1",
+                     "c: summary.json differs (steps[0].load_factor: 1.25 -> 1.2500000000000002)",
+                     "c: faces_0000.vtu only in the check",
+                     "c: step_0000.vtu differs"]
+    assert identical.differences({"c": a}, {}) == ["c: only in the manifest"]
