@@ -638,3 +638,74 @@ def test_a_title_the_font_lacks_draws_without_warnings(plate_case, tmp_path):
     assert res.returncode == 0, res.stderr
     assert res.stderr == ""
     assert (out / "fractures.png").is_file()
+
+
+def _network_summary(fractures: int, steps: int, growing: set, KIc=1e6, jitter=0.0) -> dict:
+    """A made-up summary of `fractures` fractures over `steps` steps, the tips in `growing` growing."""
+    rng = np.random.default_rng(3)
+    tip = lambda f, e, k: {"fracture": f, "end": e, "x": f, "y": e, "KI": 0.0, "KII": 0.0, "theta": 0.0,
+                           "K_eq": 2e5 + jitter * rng.standard_normal() if jitter else KIc * rng.uniform(0.2, 1.0),
+                           "advance": 0.0, "state": "growing" if (f, e) in growing else "arrested"}
+    return {"title": f"{fractures} fractures", "status": "finished", "KIc": KIc, "fractures": [],
+            "steps": [{"step": k, "load_factor": 1.0 + 0.01 * k, "dofs": 1000 + k,
+                       "tips": [tip(f, e, k) for f in range(fractures) for e in (0, 1)]} for k in range(steps)]}
+
+
+@pytest.mark.parametrize("fractures", [2, 40])
+def test_history_stays_readable_at_any_number_of_tips(fractures, tmp_path, monkeypatch):
+    """history.png of 2 and of 40 fractures (80 tips): the legend lies inside the figure, beside the
+    K_eq panel and off every panel; past LEGEND_TIPS tips it has one entry for the growing tips and
+    one for the rest (not one a tip); KIc is drawn at its value; and nothing is printed (matplotlib's
+    "Tight layout not applied" warning reached the terminal raw with 16 fractures)."""
+    import warnings
+
+    from matplotlib.figure import Figure
+
+    from wingcrack.io import history
+
+    figures = []
+    save = Figure.savefig
+    monkeypatch.setattr(Figure, "savefig", lambda self, *a, **k: (figures.append(self), save(self, *a, **k))[1])
+    summary = _network_summary(fractures, 6, growing={(0, 1), (1, 0)})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        drawn = history.plot_history(tmp_path / "history.png", summary)
+    assert [str(w.message) for w in caught] == []
+    fig, = figures
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    assert len(legends) == 1
+    box, page = legends[0].get_window_extent(renderer), fig.bbox
+    assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1
+    for ax in fig.axes:
+        assert not box.overlaps(ax.get_window_extent(renderer))
+    entries = [t.get_text() for t in legends[0].get_texts()]
+    if 2 * fractures <= history.LEGEND_TIPS:
+        assert entries == [f"fracture {f} end {e}" for f in range(fractures) for e in (0, 1)] + ["KIc"]
+    else:
+        assert entries == ["growing tips (2), a colour each", f"other tips ({2 * fractures - 2})", "KIc"]
+    for f in range(fractures):
+        for e in (0, 1):
+            want = [next(t["K_eq"] for t in s["tips"] if (t["fracture"], t["end"]) == (f, e)) for s in summary["steps"]]
+            assert np.array_equal(drawn[f"fracture {f} end {e}"][1], want)
+    assert np.all(drawn["KIc"][1] == summary["KIc"])
+
+
+def test_history_axes_show_values_not_an_offset(tmp_path, monkeypatch):
+    """K_eq that differs between steps by round-off (2e5 +- 1e-6): the axis labels the values, with no
+    offset ("1e-6 + 2e5") that makes the jitter look like a spike."""
+    from matplotlib.figure import Figure
+
+    from wingcrack.io.history import plot_history
+
+    figures = []
+    save = Figure.savefig
+    monkeypatch.setattr(Figure, "savefig", lambda self, *a, **k: (figures.append(self), save(self, *a, **k))[1])
+    summary = _network_summary(1, 5, set(), jitter=1e-6)
+    del summary["KIc"]   # a summary of before KIc was recorded: no KIc line widens the axis either
+    plot_history(tmp_path / "history.png", summary)
+    fig, = figures
+    fig.canvas.draw()
+    for ax in fig.axes:
+        assert ax.yaxis.get_major_formatter().offset == 0

@@ -151,10 +151,13 @@ class Summary:
     steps: list           # StepRecord
     fractures: list
     warnings: list = field(default_factory=list)
+    KIc: float | None = None   # the material's toughness (Pa m^0.5): the line K_eq is held against
 
     def to_dict(self) -> dict:
         out = {"title": self.title, "version": self.version, "status": self.status,
                "steps": [s.to_dict() for s in self.steps], "fractures": self.fractures}
+        if self.KIc is not None:
+            out["KIc"] = float(self.KIc)
         if self.warnings:
             out["warnings"] = list(self.warnings)
         return out

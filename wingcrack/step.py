@@ -566,7 +566,7 @@ def summary(case, status: str, steps: list, fractures: list, warnings=()) -> Sum
     [{points, origin, fracture}] of the last finished geometry, warnings
     about the whole result; one line more when the SIF methods disagreed."""
     return Summary(case.title, __version__, status, list(steps), fractures,
-                   result_warnings(steps, sif_method(case)) + list(warnings))
+                   result_warnings(steps, sif_method(case)) + list(warnings), KIc=case.material.KIc)
 
 
 def result_warnings(steps: list, method: str = "correlation") -> list:

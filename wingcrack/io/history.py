@@ -54,8 +54,9 @@ def _k_eq(t: dict) -> float:
 
 def plot_history(path: Path, summary: dict, result=None) -> dict:
     """Write history.png and return what was drawn: {label: (x, y)} read
-    back from the figure's lines (labels "load factor", "DOFs" and
-    "fracture F end E" for K_eq; when some step has a fracture pressure
+    back from the figure's lines (labels "load factor", "DOFs",
+    "fracture F end E" for K_eq and "KIc" for its line where the summary
+    holds KIc; when some step has a fracture pressure
     above 0, "injection pressure" in MPa and, with `result` (the folder's
     io.outdir.StoredResult, whose face files give it), "slipping length"
     in m)."""
@@ -65,7 +66,10 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
 
     h = history(summary)
     wet = bool(np.any(h["injection"] > 0))
-    fig, axes = plt.subplots(4 if wet else 3, 1, figsize=(7, 9.5 if wet else 7.5), sharex=True)
+    # constrained layout keeps a legend beside its axes inside the figure (tight_layout leaves it out
+    # and warns when it cannot fit: the warning reached the terminal raw)
+    fig, axes = plt.subplots(4 if wet else 3, 1, figsize=(8.5, 9.5 if wet else 7.5), sharex=True,
+                             layout="constrained")
     ax_load, ax_k, ax_dofs = axes[0], axes[-2], axes[-1]
     marker = "o" if len(h["step"]) <= 60 else None
     ax_load.plot(h["step"], h["load_factor"], marker=marker, ms=3, color="black", label="load factor")
@@ -73,20 +77,17 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     extra = []
     if wet:
         extra = _injection_panel(axes[1], h, None if result is None else slipping_lengths(result), marker)
-    for (f, e), y in h["k_eq"].items():
-        ax_k.plot(h["step"], y, marker=marker, ms=3, label=f"fracture {f} end {e}")
-    ax_k.set_ylabel("K_eq (Pa m$^{1/2}$)")
-    if h["k_eq"]:
-        ax_k.legend(fontsize=7, ncol=2 if len(h["k_eq"]) > 4 else 1, loc="best")
+    _k_eq_panel(ax_k, h, summary, marker)
     ax_dofs.plot(h["step"], h["dofs"], marker=marker, ms=3, color="tab:gray", label="DOFs")
     ax_dofs.set_ylabel("DOFs")
     ax_dofs.set_xlabel("step")
     ax_dofs.xaxis.get_major_locator().set_params(integer=True)
     status = "" if summary["status"] == "finished" else "\n" + textwrap.shorten(summary["status"], 80)
     ax_load.set_title(f"{summary['title']}: {len(h['step'])} steps{status}", fontsize=10)
-    for ax in axes:
+    for ax in (*axes, *extra):
         ax.grid(alpha=0.3)
-    fig.tight_layout()
+        # no offset notation ("1e-6 + 2e5"): it makes round-off jitter between steps look like a spike
+        ax.ticklabel_format(axis="y", useOffset=False)
     drawn = {line.get_label(): (np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float))
              for ax in (*axes, *extra) for line in ax.get_lines()}
     try:
@@ -95,6 +96,60 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     finally:   # a file not written leaves no figure open (a long-lived drawing process draws the next)
         plt.close(fig)
     return drawn
+
+
+#: tips named one by one in the K_eq legend; past this the growing tips (those that ever grew) are
+#: coloured and the others grey, with one legend entry each group: a legend of 40 tips covered the
+#: panels below and ran off the image
+LEGEND_TIPS = 8
+
+
+def _k_eq_panel(ax, h: dict, summary: dict, marker) -> None:
+    """K_eq of every tip (a line each, labelled "fracture F end E") and
+    KIc as a dashed line when the summary holds it; the legend beside the
+    axes."""
+    tips = h["k_eq"]
+    grew = {(t["fracture"], t["end"]) for st in summary["steps"] for t in st["tips"]
+            if t.get("state") == "growing"}
+    few = len(tips) <= LEGEND_TIPS
+    handles, group = [], {}   # group: the first line of the growing tips and of the others
+    colours = _tip_colours(sorted(grew) if not few else sorted(tips))
+    for key, y in tips.items():
+        f, e = key
+        if few or key in grew:
+            line, = ax.plot(h["step"], y, marker=marker, ms=3, color=colours[key], label=f"fracture {f} end {e}")
+            if few:
+                handles.append(line)
+            else:
+                group.setdefault("growing", (line, f"growing tips ({len(grew & set(tips))}), a colour each"))
+        else:
+            line, = ax.plot(h["step"], y, lw=0.8, color="0.72", zorder=1, label=f"fracture {f} end {e}")
+            group.setdefault("other", (line, f"other tips ({len(tips) - len(grew & set(tips))})"))
+    handles += [group[g] for g in ("growing", "other") if g in group]
+    KIc = summary.get("KIc")
+    if KIc is not None and tips:
+        handles.append(ax.axhline(float(KIc), color="black", ls="--", lw=1.0, label="KIc"))
+    ax.set_ylabel("K_eq (Pa m$^{1/2}$)")
+    if handles:
+        pairs = [(hd, hd.get_label()) if not isinstance(hd, tuple) else hd for hd in handles]
+        ax.legend([p[0] for p in pairs], [p[1] for p in pairs], fontsize=7, loc="upper left",
+                  bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+
+
+def _tip_colours(keys) -> dict:
+    """A colour per tip key, by its fracture (the fractures spread over a
+    qualitative map, both ends of one fracture alike but for a shade)."""
+    import matplotlib
+
+    cmap = matplotlib.colormaps["tab10" if len({k[0] for k in keys}) <= 10 else "tab20"]
+    fractures = sorted({k[0] for k in keys})
+    where = {f: i for i, f in enumerate(fractures)}
+    out = {}
+    for f, e in keys:
+        r, g, b, _ = cmap(where[f] % cmap.N)
+        shade = 1.0 if e == 0 else 0.75
+        out[(f, e)] = (r * shade, g * shade, b * shade)
+    return out
 
 
 def _injection_panel(ax, h: dict, slipping, marker) -> list:
