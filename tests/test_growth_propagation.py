@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from builders import square_plate_with_cracks
-from wingcrack.api import run
+from wingcrack.api import run, sif
 from wingcrack.case import Case
 from wingcrack.errors import ComputationError
 
@@ -117,8 +117,15 @@ def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):
 
 
 def test_load_factor_limit_stops_the_run():
+    """The limit below the critical load: the step is solved and recorded at the limit, and the status
+    says how far from KIc its tips stayed: Griffith's K = sigma sqrt(pi a) at load factor 1, within 1 %
+    (the plate is 100a wide; SIFs ~0.1 %)."""
     r = run(tension_plate(max_load_factor=1.0))
-    assert r.status.startswith("stopped: no tip reaches KIc") and r.steps == []
+    assert len(r.steps) == 1 and r.steps[0]["load_factor"] == 1.0
+    ratio = max(t["K_eq"] for t in r.steps[0]["tips"]) / 1e6
+    assert abs(ratio / (SIGMA * np.sqrt(np.pi * A) / 1e6) - 1) < 1e-2
+    assert r.status == f"stopped: no tip reaches KIc below the load factor limit 1 (there the largest K_eq is " \
+                       f"{ratio:.3g} KIc)"
 
 
 def test_fixed_load_below_kic_stops_with_a_complete_result(tmp_path):
@@ -210,11 +217,14 @@ def test_a_run_of_zero_steps_is_not_finished(tmp_path):
     assert json.loads((tmp_path / "r" / "summary.json").read_text())["status"] == NO_STEPS
 
 
-def test_a_run_stopped_on_the_load_limit_shows_no_unrecorded_solve():
-    """A compressed frictionless crack whose critical load rises (2.57, then
-    3.01), limited to 2.8: step 0 is recorded and step 1 stops. The result's
-    mesh and displacement were the limit search's trial solve on the grown,
-    unrecorded geometry, next to tips of step 0; now there is none."""
+def test_a_run_stopped_on_the_load_limit_records_the_step_at_the_limit():
+    """A compressed frictionless crack whose critical load rises (2.570, then 3.413), limited to 2.8:
+    step 0 grows at 2.570 and step 1, which no tip can start below the limit, is recorded at the limit
+    with its files, so that the user sees how far from KIc its tips stayed. Frictionless contact under
+    a scaled load is homogeneous (K proportional to the load on the same geometry and mesh), so K_eq at
+    2.8 is KIc * 2.8 / 3.413, the unlimited run's critical load of step 1, to round-off (1e-9); the
+    status says that ratio, and the result's mesh is the recorded step's (it was once the limit
+    search's trial solve, unrecorded)."""
     d = {"material": {"E": 10e9, "nu": 0.25, "KIc": 1e6},
          "domain": {"shape": "rectangle", "corner": [-1.0, -1.0], "size": [2.0, 2.0]},
          "fractures": [{"points": [[-0.1, -0.1], [0.1, 0.1]], "faces": "frictionless"}],
@@ -223,9 +233,18 @@ def test_a_run_stopped_on_the_load_limit_shows_no_unrecorded_solve():
          "mesh": {"size": 0.25, "tip_size": 0.02, "sectors": 16},
          "propagation": {"steps": 3, "length": 0.02, "max_load_factor": 2.8}}
     r = run(Case.from_dict(d))
-    assert r.status == "stopped: no tip reaches KIc below the load factor limit 2.8" and len(r.steps) == 1
-    assert r.mesh is None and r.displacement is None and r.dolfinx_mesh is None
-    assert len(r.tips) == 2
+    free = run(Case.from_dict({**d, "propagation": {**d["propagation"], "steps": 2, "max_load_factor": 100}}))
+    critical = free.steps[1]["load_factor"]
+    assert 2.8 < critical and free.steps[0]["load_factor"] < 2.8
+    ratio = 2.8 / critical
+    assert r.status == f"stopped: no tip reaches KIc below the load factor limit 2.8 (there the largest K_eq is " \
+                       f"{ratio:.3g} KIc)" and len(r.steps) == 2
+    assert r.steps[0]["load_factor"] == free.steps[0]["load_factor"] and r.steps[1]["load_factor"] == 2.8
+    np.testing.assert_allclose([t["K_eq"] for t in r.steps[1]["tips"]],
+                               [ratio * t["K_eq"] for t in free.steps[1]["tips"]], rtol=1e-9)
+    assert all(t["state"] == "arrested" and t["advance"] == 0.0 for t in r.steps[1]["tips"])
+    assert r.dolfinx_mesh is not None and len(r.tips) == 2
+    assert r.displacement.function_space.dofmap.index_map.size_global * 2 == r.steps[1]["dofs"]
 
 
 def test_the_load_limit_status_says_when_nothing_scales():
@@ -236,7 +255,12 @@ def test_the_load_limit_status_says_when_nothing_scales():
 
     d = square_plate_with_cracks(L, [[[-A, 0.0], [A, 0.0]]], (0.0, 1e4, 0.0), size=10 * A, tip_size=0.05)
     d["propagation"] = {"steps": 2, "length": 0.1}
-    r = run(Case.from_dict(d))
-    assert r.status == "stopped: no tip reaches KIc below the load factor limit 100" + NOTHING_SCALES
-    assert r.steps == []
+    case = Case.from_dict(d)
+    r = run(case)
+    # the step is recorded at the limit; nothing scales, so its K_eq is step 0's at load factor 1 (`sif`)
+    k_eq = [t.K_eq for t in sif(case).tips]
+    assert len(r.steps) == 1 and r.steps[0]["load_factor"] == 100
+    np.testing.assert_allclose([t["K_eq"] for t in r.steps[0]["tips"]], k_eq, rtol=1e-12)
+    assert r.status == "stopped: no tip reaches KIc below the load factor limit 100 (there the largest K_eq is " \
+                       f"{max(k_eq) / case.material.KIc:.3g} KIc)" + NOTHING_SCALES
     assert not run(tension_plate(max_load_factor=1.0)).status.endswith(NOTHING_SCALES)

@@ -251,8 +251,20 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 progress_now.doing("the critical-load search")
                 crit = _critical_load(case, disc, fset, grow, lam)
                 if crit.load_factor is None:
-                    status = f"stopped: no tip reaches KIc below the load factor limit {prop.max_load_factor:g}" \
-                        + ("" if _scaled_load(case) else NOTHING_SCALES)
+                    # the step solved at the limit is a result too (as under a fixed load): the user sees
+                    # how far from KIc the tips stayed, in its record and its files
+                    limit = prop.max_load_factor
+                    progress_now.doing(f"the solve at the load factor limit {limit:.6g}")
+                    disc.solve(limit)
+                    timer.lap("solve")
+                    tips = disc.sifs(case, fset.polylines())
+                    timer.lap("sif")
+                    records.append(step.finish(out, k, limit, disc, tips, timer, solves=int(crit.solves) + 1,
+                                               KIc=case.material.KIc))
+                    shown = disc
+                    ratio = max(tips[i].K_eq for i in grow) / case.material.KIc
+                    status = f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the " \
+                        f"largest K_eq is {ratio:.3g} KIc)" + ("" if _scaled_load(case) else NOTHING_SCALES)
                     break
                 lam, solves = crit.load_factor, int(crit.solves)
             else:
