@@ -320,10 +320,12 @@ def test_sigterm_and_ctrl_c_exit_128_plus_the_signal(fake_api, tmp_path, capsys)
 
     fake_api.behaviour = Terminated()
     assert cli.main(["run", str(CASES[0]), "-o", str(tmp_path / "a")]) == 143
-    assert capsys.readouterr().err == "wingcrack: error: terminated\n"
+    # a clean stop, not an error; a run says what --resume has (here: nothing)
+    assert capsys.readouterr().err == "wingcrack: stopped (terminated): no step was finished, so nothing to " \
+                                      "resume: run it again\n"
     fake_api.behaviour = KeyboardInterrupt()
     assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "b")]) == 130
-    assert capsys.readouterr().err == "wingcrack: error: interrupted\n"
+    assert capsys.readouterr().err == "wingcrack: stopped (interrupted)\n"
 
 
 def test_sigterm_during_a_command_raises_terminated(fake_api, tmp_path, capsys):
@@ -340,7 +342,7 @@ def test_sigterm_during_a_command_raises_terminated(fake_api, tmp_path, capsys):
 
     fake_api.sif = work
     assert cli.main(["sif", str(CASES[0]), "-o", str(tmp_path / "out")]) == 143
-    assert capsys.readouterr().err == "wingcrack: error: terminated\n"
+    assert capsys.readouterr().err == "wingcrack: stopped (terminated)\n"
 
 
 @pytest.mark.parametrize("command", ["sif", "run", "resume", "plot"])

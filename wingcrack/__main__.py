@@ -34,7 +34,7 @@ def _stopped(err: BaseException) -> int:
     from wingcrack.parallel import world_rank
 
     if world_rank() == 0:   # what the CLI says for a stop (rank 0 tells it)
-        print(f"wingcrack: error: {interrupt.message(err)}", file=sys.stderr)
+        print(f"wingcrack: {interrupt.stop_line(err)}", file=sys.stderr)
     return interrupt.exit_code(err)
 
 

@@ -117,11 +117,11 @@ def main(argv: list[str] | None = None) -> int:
             args = _parser().parse_args(argv)
             return _command(args)
     except KeyboardInterrupt as err:   # Ctrl-C, or SIGTERM (interrupt.Terminated)
-        return _stopped(err)
+        return _stopped(err, args)
     except Exception as err:  # noqa: BLE001 - the CLI is the last line of defence
         stop = interrupt.cause(err)
         if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
-            return _stopped(stop)
+            return _stopped(stop, args)
         if isinstance(err, (CaseError, FolderError)):
             _error(str(err))
             return EXIT_INVALID
@@ -144,11 +144,31 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_FAILED
 
 
-def _stopped(err: BaseException) -> int:
+def _stopped(err: BaseException, args=None) -> int:
     """Tell a stop by Ctrl-C or SIGTERM (`err`, a KeyboardInterrupt) and
-    return its exit status (130, 143)."""
-    _error(interrupt.message(err))
+    return its exit status (130, 143): of a `run`, the steps its folder
+    keeps for --resume (those its checkpoint holds)."""
+    kept = None
+    if args is not None and args.command == "run" and getattr(args, "out", None) is not None:
+        kept = _resumable_steps(Path(args.out))
+    if world_rank() == 0:
+        print(f"{PROG}: {interrupt.stop_line(err, kept)}", file=sys.stderr)
     return interrupt.exit_code(err)
+
+
+def _resumable_steps(out: Path) -> int:
+    """The finished steps of the run in `out` that --resume goes on from:
+    summary.json's, where the checkpoint exists (0 without one)."""
+    import json
+
+    from wingcrack.io.outdir import CHECKPOINT, SUMMARY
+
+    try:
+        if not (out / CHECKPOINT).is_file():
+            return 0
+        return len(json.loads((out / SUMMARY).read_text(encoding="utf-8"))["steps"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return 0
 
 
 def _command(args) -> int:

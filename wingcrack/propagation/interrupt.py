@@ -79,8 +79,20 @@ def forget() -> None:
 
 
 def message(err: BaseException) -> str:
-    """What the command line says for a stop by `err` (a KeyboardInterrupt)."""
+    """The word for a stop by `err` (a KeyboardInterrupt): "interrupted" or "terminated"."""
     return "terminated" if isinstance(err, Terminated) else "interrupted"
+
+
+def stop_line(err: BaseException, kept: int | None = None) -> str:
+    """What the command line says for a stop by `err`: a clean stop, not an
+    error. kept: the steps a stopped `run` left to resume (None for the
+    other commands, or before a run had its folder)."""
+    said = f"stopped ({message(err)})"
+    if kept is None:
+        return said
+    if kept == 0:
+        return f"{said}: no step was finished, so nothing to resume: run it again"
+    return f"{said}: {kept} step{'' if kept == 1 else 's'} kept; --resume goes on"
 
 
 def stop_status(err: BaseException) -> str:
