@@ -189,8 +189,9 @@ def test_sticking_crack_grows_no_wing(runs):
     assert c["stick"] == c["closed"] == c["pairs"], c
     for t in r.steps[0]["tips"]:
         assert abs(t["KI"]) < 1e-8 * limit * k and abs(t["KII"]) < 1e-8 * limit * k, (t["KI"], t["KII"])
-    assert r.status.startswith(f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the "
-                               "largest K_eq is "), r.status
+    # K_eq of vanishing SIFs is round-off: said as 0
+    assert r.status == f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the largest " \
+                       "K_eq is 0 KIc)", r.status
     assert limit > 100 * runs(None).steps[0]["load_factor"]
 
 

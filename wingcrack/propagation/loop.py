@@ -52,6 +52,8 @@ NO_STEPS = "stopped: propagation.steps = 0 (no step asked for; `wingcrack sif` s
 SEARCHED = ("scale", "pressure")
 
 #: added to the load-limit status of a case in which the load factor multiplies nothing
+#: a K_eq below this times KIc is said as 0 in a status: the round-off of SIFs that vanish
+ROUND_OFF_K = 1e-9
 NOTHING_SCALES = (" (nothing in the case scales with it: every [[bc]] value and slip is 0, and the in-situ stress "
                   "and gravity are not scaled)")
 
@@ -263,8 +265,10 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                                                KIc=case.material.KIc))
                     shown = disc
                     ratio = max(tips[i].K_eq for i in grow) / case.material.KIc
+                    # below 1e-9 KIc a K_eq is the round-off of SIFs that vanish (faces stuck or closed)
+                    said = f"{ratio:.3g}" if ratio >= ROUND_OFF_K else "0"
                     status = f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the " \
-                        f"largest K_eq is {ratio:.3g} KIc)" + ("" if _scaled_load(case) else NOTHING_SCALES)
+                        f"largest K_eq is {said} KIc)" + ("" if _scaled_load(case) else NOTHING_SCALES)
                     break
                 lam, solves = crit.load_factor, int(crit.solves)
             else:
