@@ -27,10 +27,12 @@ L = 4.0
 STEPS = 6
 
 
-def write_case(path, steps=STEPS, title="plate"):
+def write_case(path, steps=STEPS, title="plate", E=None):
     d = square_plate_with_cracks(L, [[[-1.0, -0.3], [-0.4, 0.1]], [[0.3, 0.5], [1.0, 0.4]]], (0.0, 0.0, 0.0),
                                  size=0.5, tip_size=0.05)
     d["title"] = title
+    if E is not None:
+        d["material"]["E"] = E
     d["bc"] += [{"on": "top", "traction": [0.0, 1e5]}, {"on": "bottom", "traction": [0.0, -1e5]}]
     d["propagation"] = {"steps": steps, "length": 0.1}
     path.write_text(to_toml(d))
@@ -153,11 +155,30 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path):
     assert nothing.returncode == 2 and "nothing to resume" in nothing.stderr
     assert subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "out"), "--quiet", "--no-plots"],
                           capture_output=True).returncode == 0
-    other = write_case(tmp_path / "other.toml", steps=2, title="another plate")
+    from wingcrack.case import Case
+
+    E = Case.from_toml(case).material.E
+    other = write_case(tmp_path / "other.toml", steps=3, E=2 * E)
     wrong = subprocess.run([str(WINGCRACK), "run", str(other), "-o", str(tmp_path / "out"), "--resume"],
                            capture_output=True, text=True)
-    assert wrong.returncode == 2 and "another case" in wrong.stderr
-    assert len(wrong.stderr.strip().splitlines()) == 1
+    # the refusal names the key that differs, with both values
+    assert wrong.returncode == 2 and wrong.stderr == (
+        f"wingcrack: error: {tmp_path / 'out'}: {tmp_path / 'out' / 'checkpoint.npz'} was written for another "
+        f"case: material.E is {2 * E!r} here, {E!r} there; resume with the case it was written for, or start the "
+        "run again without --resume (with --force)\n"), wrong.stderr
+    # asking for fewer steps than are done: said, not "finished" with more steps than asked
+    fewer = subprocess.run([str(WINGCRACK), "run", str(write_case(tmp_path / "fewer.toml", steps=1)), "-o",
+                            str(tmp_path / "out"), "--resume"], capture_output=True, text=True)
+    assert fewer.returncode == 2 and fewer.stderr == (
+        f"wingcrack: error: {tmp_path / 'out'}: holds 2 finished steps, more than the case's propagation.steps = "
+        "1: nothing to resume; ask for more steps to go on\n"), fewer.stderr
+    # a new title (and more steps) does not make another case: the run goes on, under the new title
+    retitled = write_case(tmp_path / "retitled.toml", steps=3, title="another plate")
+    more = subprocess.run([str(WINGCRACK), "run", str(retitled), "-o", str(tmp_path / "out"), "--resume", "--quiet",
+                           "--no-plots"], capture_output=True, text=True)
+    assert more.returncode == 0, more.stderr
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["title"] == "another plate" and len(s["steps"]) == 3
 
 
 def test_resume_with_a_finished_step_file_missing_exits_2(tmp_path):
@@ -392,7 +413,7 @@ def test_a_format_2_checkpoint_is_refused_naming_both(tmp_path, capsys):
     assert cli.main(["run", str(path), "-o", str(out), "--resume", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert err == (f"wingcrack: error: {out}: {out / checkpoint.NAME} was written by another wingcrack version "
-                   "(checkpoint format 2, this one reads 3); start the run again without "
+                   f"(checkpoint format 2, this one reads {checkpoint.VERSION}); start the run again without "
                    "--resume (with --force)\n"), err
 
 

@@ -247,6 +247,12 @@ def _run(case, out, progress, plots, force, resume):
         except ValueError as err:
             raise FolderError(Path(out), _no_checkpoint(out) or str(err)) from None
         out = Path(out)
+        done, asked = len(state["steps"]), case.propagation.steps
+        # fewer: resumed, it would end at once and call `asked` steps "finished" with `done` of them (as many:
+        # it finishes what a stop left, the pictures and the final status)
+        if asked < done:
+            raise FolderError(out, f"holds {done} finished step{'' if done == 1 else 's'}, more than the case's "
+                                   f"propagation.steps = {asked}: nothing to resume; ask for more steps to go on")
         from .io.outdir import faces_name, fields_name
 
         # the finished steps' files: without one, the resumed result would have a hole

@@ -30,18 +30,58 @@ from ..contact.slip_history import SlipHistory
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
-#: 2: the fractures' friction and cohesion (issue 14); 3: their fluid
-#: pressure and joined_to (issue 15).
-VERSION = 3
+#: 2: the fractures' friction and cohesion; 3: their fluid pressure and joined_to; 4: the case's keys
+#: (case_keys), the title out of the fingerprint.
+VERSION = 4
+
+
+def _case_text(case) -> str:
+    """The case as JSON without what a resumed run may change: its title,
+    propagation.steps and the path it was read from (the same file named
+    another way is the same case)."""
+    d = dataclasses.asdict(dataclasses.replace(case, title="", source=None,
+                                               propagation=dataclasses.replace(case.propagation, steps=0)))
+    return json.dumps(d, sort_keys=True, default=_plain)
 
 
 def fingerprint(case) -> str:
-    """sha256 of the case without propagation.steps and without the path it
-    was read from (the same file named another way is the same case)."""
-    d = dataclasses.asdict(dataclasses.replace(case, propagation=dataclasses.replace(case.propagation, steps=0),
-                                               source=None))
-    text = json.dumps(d, sort_keys=True, default=_plain)
-    return hashlib.sha256(text.encode()).hexdigest()
+    """sha256 of _case_text(case)."""
+    return hashlib.sha256(_case_text(case).encode()).hexdigest()
+
+
+def case_keys(case) -> dict:
+    """{dotted key: value} of _case_text(case): "material.E",
+    "fractures[1].friction", ... (lists of records by index, other values whole)."""
+    out = {}
+
+    def walk(x, where):
+        if isinstance(x, dict):
+            for k, v in x.items():
+                walk(v, f"{where}.{k}" if where else str(k))
+        elif isinstance(x, list) and x and all(isinstance(v, dict) for v in x):
+            for i, v in enumerate(x):
+                walk(v, f"{where}[{i}]")
+        else:
+            out[where] = x
+
+    walk(json.loads(_case_text(case)), "")
+    return out
+
+
+def _differing(theirs: dict, ours: dict) -> str:
+    """The keys whose values differ between two case_keys, in words."""
+    keys = sorted(set(theirs) | set(ours), key=lambda k: (k not in ours, k))
+    diff = [k for k in keys if theirs.get(k, _MISSING) != ours.get(k, _MISSING)]
+
+    def said(v):
+        return "absent" if v is _MISSING else json.dumps(v)[:60]
+
+    words = [f"{k} is {said(ours.get(k, _MISSING))} here, {said(theirs.get(k, _MISSING))} there" for k in diff[:3]]
+    more = f" (and {len(diff) - 3} more keys)" if len(diff) > 3 else ""
+    return "; ".join(words) + more
+
+
+_MISSING = object()
 
 
 def _plain(obj):
@@ -59,7 +99,7 @@ def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, h
     slip of the Coulomb faces (SlipHistory, or None); patch: the run's
     propagation.patch.Patch (None: none), so that a resumed run meshes as
     the uninterrupted one."""
-    _save(out, fingerprint(case), k, fset, lam, steps, None, sizes, history, patch)
+    _save(out, (fingerprint(case), case_keys(case)), k, fset, lam, steps, None, sizes, history, patch)
 
 
 class Writer:
@@ -70,7 +110,7 @@ class Writer:
     def __init__(self, out, case):
         from ..io.summary import StepTexts
 
-        self.out, self.case = out, fingerprint(case)
+        self.out, self.case = out, (fingerprint(case), case_keys(case))
         self._texts = StepTexts(lambda r: json.dumps(r.to_dict(), default=_plain))
 
     def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None, patch=None) -> None:
@@ -83,8 +123,12 @@ _STEPS_MARK = "\0steps of the checkpoint\0"
 
 
 def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None) -> None:
+    """case_print: (fingerprint, case_keys) of the case."""
+    from ..version import __version__
+
     meta = {
-        "version": VERSION, "case": case_print, "step": k, "load_factor": lam,
+        "version": VERSION, "case": case_print[0], "case_keys": case_print[1], "wingcrack": __version__,
+        "step": k, "load_factor": lam,
         "patch": None if patch is None else patch.to_list(),
         "steps": steps if step_texts is None else _STEPS_MARK,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
@@ -148,7 +192,16 @@ def load(out, case) -> dict:
                          f"{meta.get('version')!r}, this one reads {VERSION}); "
                          "start the run again without --resume (with --force)")
     if not isinstance(meta, dict) or meta.get("case") != fingerprint(case):
-        raise ValueError(f"{path} was written for another case (or another wingcrack version)")
+        theirs = meta.get("case_keys") if isinstance(meta, dict) else None
+        differ = _differing(theirs, case_keys(case)) if isinstance(theirs, dict) else ""
+        if differ:
+            raise ValueError(f"{path} was written for another case: {differ}; resume with the case it was "
+                             "written for, or start the run again without --resume (with --force)")
+        from ..version import __version__
+
+        raise ValueError(f"{path} was written by wingcrack {meta.get('wingcrack', '(unknown)')}, which records the "
+                         f"case otherwise than this {__version__} (no key of the case differs); start the run "
+                         "again without --resume (with --force)")
     try:
         fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"],
                                      m["slip"], m["slip_profile"], m["grow"],
