@@ -271,6 +271,31 @@ def test_the_picture_bands_the_last_steps_faces_by_state(run, tmp_path):
     assert {"faces open", "faces slip", "pre-existing", "wing (colour: step)"} <= set(drawn["legend"])
 
 
+def test_the_pictures_legend_covers_no_fracture_and_stays_in_the_image(run, tmp_path, monkeypatch):
+    """fractures.png's legend lies outside both panels (inside the domain's panel it covered fractures
+    wherever a network had them: the 1,000-fracture network's legend sat on its corner), and the saved
+    image holds it and both titles whole (saved "tight": every artist's box within the image)."""
+    from matplotlib.figure import Figure
+    from matplotlib.transforms import Bbox
+
+    from wingcrack.io.outdir import read_result
+    from wingcrack.io.pictures import fractures_of_result
+
+    figures = []
+    save = Figure.savefig
+    monkeypatch.setattr(Figure, "savefig", lambda self, *a, **k: (figures.append((self, k)), save(self, *a, **k))[1])
+    fractures_of_result(tmp_path / "fractures.png", read_result(run[0]))
+    (fig, kwargs), = figures
+    assert kwargs.get("bbox_inches") == "tight"
+    renderer = fig.canvas.get_renderer()
+    legend = fig.axes[0].get_legend()
+    box = legend.get_window_extent(renderer)
+    for ax in fig.axes:
+        assert not box.overlaps(ax.get_window_extent(renderer)), ax.get_title()
+    every = Bbox.union([a.get_window_extent(renderer) for a in [legend, *(ax.title for ax in fig.axes)]])
+    assert fig.get_tightbbox(renderer).transformed(fig.dpi_scale_trans).contains(every.x0 + 1, every.y0 + 1)
+
+
 def test_the_animation_bands_each_steps_faces_by_state(run, tmp_path):
     """Every frame of the growth animation bands its step's face edges in
     the state the face file holds: on a copy of the run whose face file of

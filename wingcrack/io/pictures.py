@@ -84,7 +84,8 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     from matplotlib.collections import LineCollection
     from matplotlib.ticker import MaxNLocator
 
-    fig, (ax_full, ax_zoom) = plt.subplots(1, 2, figsize=(11, 5.2))
+    # constrained layout: room for the legend below the domain, so that it covers no fracture
+    fig, (ax_full, ax_zoom) = plt.subplots(1, 2, figsize=(11, 6.0), layout="constrained")
     if mesh is not None:
         # the straight-sided vertex triangles show the rosettes and grading
         ax_zoom.triplot(mesh.x[:, 0], mesh.x[:, 1], np.asarray(mesh.cells)[:, :3], color="0.8", lw=0.3)
@@ -155,8 +156,9 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     uniq = dict(zip(labels, handles))
     uniq = {k: uniq[k] for k in sorted(uniq, key=lambda k: k in bands)}   # the fractures first, then the faces
     uniq.update(_pressure_entries(fig, ax_full, wet, p_cmap, p_norm, bars))
-    legend = ax_full.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8) if uniq else None
-    fig.tight_layout()
+    # below the domain's axes, outside them: inside, a legend covers fractures wherever a network has them
+    legend = ax_full.legend(uniq.values(), uniq.keys(), loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                            ncol=min(3, len(uniq)), fontsize=8, frameon=False) if uniq else None
     drawn = {label: np.asarray(band.get_segments(), float).reshape(-1, 3, 2) for label, band in bands.items()}
     if rim is not None:
         drawn["pressurised"] = {"lines": [np.asarray(s, float) for s in rim.get_segments()],
@@ -165,7 +167,8 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     drawn["colour bars"] = [b.ax.get_ylabel() for b in bars]
     try:
         with replacing(path, Path(path).suffix) as tmp:   # the format by the suffix
-            fig.savefig(tmp, dpi=110)
+            # "tight": the image holds every artist, the legend below the axes and the titles included
+            fig.savefig(tmp, dpi=110, bbox_inches="tight", pad_inches=0.1)
     finally:   # a file not written leaves no figure open (a long-lived drawing process draws the next)
         plt.close(fig)
     return drawn
