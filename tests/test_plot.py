@@ -653,15 +653,19 @@ def test_a_case_without_fractures_gets_its_pictures(plate_case, tmp_path, capsys
 def test_a_title_the_font_lacks_draws_without_warnings(plate_case, tmp_path):
     """An emoji in the title is valid Unicode text: the pictures draw it as a
     box, and matplotlib's "Glyph ... missing from current font" warnings
-    (four lines on stderr, even with --quiet) are not printed. A subprocess:
-    pytest would catch the warnings itself."""
+    (four lines on stderr, even with --quiet) are not printed: one line says
+    it (where no installed font has the emoji). A subprocess: pytest would
+    catch the warnings itself."""
+    from wingcrack.io import fonts
+
     case = tmp_path / "rocket.toml"
     case.write_text(plate_case.read_text().replace('title = "Inclined crack under compression"',
                                                    'title = "\U0001F680 crack"'))
     out = tmp_path / "out"
     res = wingcrack("-q", "sif", case, "-o", out)
     assert res.returncode == 0, res.stderr
-    assert res.stderr == ""
+    said = fonts.title_warning("\U0001F680 crack")
+    assert res.stderr == ("" if said is None else f"wingcrack: warning: {said}\n")
     assert (out / "fractures.png").is_file()
 
 
@@ -734,3 +738,35 @@ def test_history_axes_show_values_not_an_offset(tmp_path, monkeypatch):
     fig.canvas.draw()
     for ax in fig.axes:
         assert ax.yaxis.get_major_formatter().offset == 0
+
+
+def test_a_title_beyond_the_font_falls_back_or_is_said_once(plate_case, tmp_path):
+    """Characters the pictures' font (DejaVu Sans) lacks are drawn from an installed font that has them
+    (matplotlib's family fallback: here STIXGeneral's U+1D81, which DejaVu lacks), and characters no
+    installed font has (CJK, an emoji, on a machine without such fonts) are said once in summary.json's
+    warnings and on stderr, instead of a matplotlib warning per glyph."""
+    import matplotlib.font_manager as fm
+    from matplotlib.ft2font import FT2Font
+
+    from wingcrack.io import fonts
+
+    families, missing = fonts.fallback("a\u1d81 b")
+    assert families[0] == fonts.BASE and len(families) == 2 and missing == ""
+    assert 0x1D81 in FT2Font(fm.findfont(fm.FontProperties(family=families[1]))).get_charmap()
+    assert fonts.fallback("plain title") == ((fonts.BASE,), "")
+    title = "\u88c2\u7f1d \U0001f642 plate"
+    nowhere = "".join(dict.fromkeys(c for c in title if not c.isspace() and not c.isascii() and not any(
+        ord(c) in FT2Font(f.fname).get_charmap() for f in fm.fontManager.ttflist)))
+    case = tmp_path / "case.toml"
+    case.write_text(plate_case.read_text().replace('title = "Inclined crack under compression"', f'title = "{title}"'))
+    res = subprocess.run([sys.executable, "-m", "wingcrack.cli", "sif", str(case), "-o", str(tmp_path / "out")],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert "Glyph" not in res.stderr
+    warned = [w for w in json.loads((tmp_path / "out" / "summary.json").read_text()).get("warnings", [])
+              if "no installed font" in w]
+    if nowhere:
+        assert warned == [fonts.title_warning(title)] and f"characters {nowhere} are" in warned[0]
+        assert res.stderr.count("no installed font") == 1
+    else:   # fonts that have them are installed: drawn, nothing to say
+        assert warned == []

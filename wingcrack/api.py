@@ -393,9 +393,15 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
 
         return animate_growth(folder, result, fmt)
 
-    draw("picture", "fractures.png", fractures)
-    if result.steps and history:
-        draw("history", "history.png", history_png)
-    if result.steps and animation:
-        draw("animation", "the growth animation", growth)
+    from .io import fonts
+
+    with fonts.quiet_glyphs():   # said once below, not a warning a glyph
+        draw("picture", "fractures.png", fractures)
+        if result.steps and history:
+            draw("history", "history.png", history_png)
+        if result.steps and animation:
+            draw("animation", "the growth animation", growth)
+    said = fonts.title_warning(result.summary.get("title", ""))
+    if said is not None and failed is not None and said not in failed:
+        failed.append(said)
     return files

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import fonts
 from .atomic import replacing
 from .faces import STATE_NAMES
 from .pictures import FACE_BANDS, PRESSURE_BAR, pressure_colours
@@ -161,7 +162,7 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                                    if np.any(faces.state == s))
                 # with fluid the face counts go to a line of their own: the stress scale would cut a long one
                 injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa\n" if wet.any() else "; "
-                ax.set_title(f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
+                fonts.set_title(ax, f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
                              + (injection + f"face edges {counts}" if counts else injection.rstrip("; \n")),
                              fontsize=10)
                 if drawn is not None:

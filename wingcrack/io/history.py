@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import fonts
 from .atomic import replacing
 
 
@@ -83,7 +84,7 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     ax_dofs.set_xlabel("step")
     ax_dofs.xaxis.get_major_locator().set_params(integer=True)
     status = "" if summary["status"] == "finished" else "\n" + textwrap.shorten(summary["status"], 80)
-    ax_load.set_title(f"{summary['title']}: {len(h['step'])} steps{status}", fontsize=10)
+    fonts.set_title(ax_load, f"{summary['title']}: {len(h['step'])} steps{status}", fontsize=10)
     for ax in (*axes, *extra):
         ax.grid(alpha=0.3)
         # no offset notation ("1e-6 + 2e5"): it makes round-off jitter between steps look like a spike

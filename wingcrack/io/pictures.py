@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import fonts
 from .atomic import replacing
 from .faces import OPEN, SLIP, STICK
 
@@ -139,7 +140,7 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
         ax.set_xlabel("x (m)")
         ax.set_ylabel("y (m)")
     ax_full.autoscale_view()
-    ax_full.set_title(title or "domain and fractures", fontsize=10)
+    fonts.set_title(ax_full, title or "domain and fractures", fontsize=10)
     bars = []
     if len(growth):
         bars.append(fig.colorbar(lines, ax=ax_zoom, label="step", fraction=0.05, ticks=MaxNLocator(integer=True)))
