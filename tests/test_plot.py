@@ -703,13 +703,17 @@ def test_history_stays_readable_at_any_number_of_tips(fractures, tmp_path, monke
     fig, = figures
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
-    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
-    assert len(legends) == 1
-    box, page = legends[0].get_window_extent(renderer), fig.bbox
-    assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1
-    for ax in fig.axes:
+    page = fig.bbox
+    for ax in fig.axes:   # every legend (the load panel's marks the peak) inside the figure
+        if ax.get_legend() is not None:
+            box = ax.get_legend().get_window_extent(renderer)
+            assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1
+    k_eq, = [ax.get_legend() for ax in fig.axes
+             if ax.get_legend() is not None and "KIc" in [t.get_text() for t in ax.get_legend().get_texts()]]
+    box = k_eq.get_window_extent(renderer)
+    for ax in fig.axes:   # the tips' legend beside the panels, over none
         assert not box.overlaps(ax.get_window_extent(renderer))
-    entries = [t.get_text() for t in legends[0].get_texts()]
+    entries = [t.get_text() for t in k_eq.get_texts()]
     if 2 * fractures <= history.LEGEND_TIPS:
         assert entries == [f"fracture {f} end {e}" for f in range(fractures) for e in (0, 1)] + ["KIc"]
     else:
@@ -770,3 +774,30 @@ def test_a_title_beyond_the_font_falls_back_or_is_said_once(plate_case, tmp_path
         assert res.stderr.count("no installed font") == 1
     else:   # fonts that have them are installed: drawn, nothing to say
         assert warned == []
+
+
+def test_history_shows_each_steps_critical_load_and_the_peak(tmp_path):
+    """The 45-degree disc (frictionless, its response proportional to the load): each step's own
+    critical load factor, recorded as lam KIc / K_eq(lam). Where the held load rose it is the critical
+    load search's root (Illinois, to K_eq = KIc within 1e-6): the two routes agree to 1e-6; after the
+    peak (step 9, 1.2303) the step's own falls below the held load, as in the paper's load against wing
+    length (Figs. 14, 16); history.png draws it dashed and marks the peak."""
+    from dataclasses import replace
+
+    import wingcrack
+    from wingcrack.case import Case
+    from wingcrack.io.history import plot_history
+
+    case = Case.from_toml(Path(__file__).resolve().parents[1] / "cases" / "brazilian_disc_45.toml")
+    r = wingcrack.run(replace(case, propagation=replace(case.propagation, steps=13)), plots=False)
+    lam = np.array([s["load_factor"] for s in r.steps])
+    crit = np.array([s["critical_load_factor"] for s in r.steps])
+    rose = np.r_[True, lam[1:] > lam[:-1]]
+    np.testing.assert_allclose(crit[rose], lam[rose], rtol=1e-6)
+    peak = int(np.argmax(lam))
+    after = np.arange(len(lam)) > peak + 1
+    assert after.sum() >= 2 and np.all(crit[after] < lam[after]) and np.all(np.diff(crit[after]) < 0)
+    drawn = plot_history(tmp_path / "history.png", r.summary)
+    np.testing.assert_array_equal(drawn["critical load factor of the step"][1], crit)
+    (x, y), = [v for k, v in drawn.items() if k.startswith("peak ")]
+    assert x[0] == peak and y[0] == lam.max()

@@ -117,11 +117,16 @@ class StepRecord:
     solves: int = 1
     warnings: list = field(default_factory=list)
     pressures: list = field(default_factory=list)
+    #: the load factor at which this step's first growing tip reaches KIc (None where not known: a fixed
+    #: load, or a path-dependent response held above it); below load_factor once the held load has peaked
+    critical_load_factor: float | None = None
 
     def to_dict(self) -> dict:
         out = {"step": self.step, "load_factor": self.load_factor, "dofs": self.dofs, "cells": self.cells,
                "tips": [t.to_dict() for t in self.tips], "contact": self.contact.to_dict(),
                "seconds": dict(self.seconds), "mesh": dict(self.mesh), "solves": self.solves}
+        if self.critical_load_factor is not None:
+            out["critical_load_factor"] = float(self.critical_load_factor)
         if self.pressures:
             out["pressures"] = [float(p) for p in self.pressures]
         if self.warnings:
@@ -136,7 +141,7 @@ class StepRecord:
                           state=t.get("state", "arrested")) for t in d["tips"]]
         return cls(d["step"], d["load_factor"], d["dofs"], d["cells"], tips, contact, dict(d["seconds"]),
                    dict(d.get("mesh", {})), d.get("solves", 1), list(d.get("warnings", [])),
-                   [float(p) for p in d.get("pressures", [])])
+                   [float(p) for p in d.get("pressures", [])], d.get("critical_load_factor"))
 
 
 @dataclass

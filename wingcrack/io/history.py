@@ -16,7 +16,8 @@ from .atomic import replacing
 
 def history(summary: dict) -> dict:
     """The series drawn, from a summary (as in summary.json):
-    step (s,), load_factor (s,), dofs (s,), k_eq {(fracture, end): (s,)}
+    step (s,), load_factor (s,), critical (s,): each step's own critical
+    load factor (NaN where not recorded), dofs (s,), k_eq {(fracture, end): (s,)}
     with NaN where that tip does not exist (not yet grown, joined, at the
     boundary), and injection (s,): the highest fracture pressure of each
     step (Pa; 0 for a step without pressures). K_eq is computed from KI,
@@ -29,6 +30,7 @@ def history(summary: dict) -> dict:
             k_eq[(t["fracture"], t["end"])][k] = t["K_eq"] if "K_eq" in t else _k_eq(t)
     return {"step": np.array([st["step"] for st in steps], float),
             "load_factor": np.array([st["load_factor"] for st in steps], float),
+            "critical": np.array([st.get("critical_load_factor", np.nan) for st in steps], float),
             "dofs": np.array([st["dofs"] for st in steps], float),
             "k_eq": k_eq,
             "injection": np.array([max(st.get("pressures") or [0.0]) for st in steps], float)}
@@ -55,7 +57,9 @@ def _k_eq(t: dict) -> float:
 
 def plot_history(path: Path, summary: dict, result=None) -> dict:
     """Write history.png and return what was drawn: {label: (x, y)} read
-    back from the figure's lines (labels "load factor", "DOFs",
+    back from the figure's lines (labels "load factor", "critical load
+    factor of the step" where a step's own fell below the held load,
+    "peak <value> (step <k>)" where the load changed, "DOFs",
     "fracture F end E" for K_eq and "KIc" for its line where the summary
     holds KIc; when some step has a fracture pressure
     above 0, "injection pressure" in MPa and, with `result` (the folder's
@@ -74,6 +78,7 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     ax_load, ax_k, ax_dofs = axes[0], axes[-2], axes[-1]
     marker = "o" if len(h["step"]) <= 60 else None
     ax_load.plot(h["step"], h["load_factor"], marker=marker, ms=3, color="black", label="load factor")
+    _critical_and_peak(ax_load, h, marker)
     ax_load.set_ylabel("load factor")
     extra = []
     if wet:
@@ -97,6 +102,27 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     finally:   # a file not written leaves no figure open (a long-lived drawing process draws the next)
         plt.close(fig)
     return drawn
+
+
+def _critical_and_peak(ax, h: dict, marker) -> None:
+    """Each step's own critical load factor (where recorded: after the peak
+    it falls below the load the run holds, the paper's load against wing
+    length), and the peak of the held load; a legend when either is drawn."""
+    crit = h["critical"]
+    drawn = False
+    if np.any(np.isfinite(crit)) and np.any(crit[np.isfinite(crit)] < h["load_factor"][np.isfinite(crit)]
+                                            * (1 - 1e-9)):
+        ax.plot(h["step"], crit, marker=marker, ms=3, ls="--", color="tab:blue",
+                label="critical load factor of the step")
+        drawn = True
+    if len(h["step"]) > 1 and np.ptp(h["load_factor"]) > 0:
+        k = int(np.argmax(h["load_factor"]))
+        peak = h["load_factor"][k]
+        ax.plot([h["step"][k]], [peak], marker="*", ms=10, ls="none", color="tab:red",
+                label=f"peak {peak:.5g} (step {int(h['step'][k])})")
+        drawn = True
+    if drawn:
+        ax.legend(fontsize=7, loc="best")
 
 
 #: tips named one by one in the K_eq legend; past this the growing tips (those that ever grew) are

@@ -251,7 +251,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                 break
             if prop.load in SEARCHED:
                 progress_now.doing("the critical-load search")
-                crit = _critical_load(case, disc, fset, grow, lam)
+                homogeneous = _homogeneous(case, disc, fset)   # before the solves: they may accept a slip
+                crit = _critical_load(case, disc, fset, grow, lam, homogeneous)
                 if crit.load_factor is None:
                     # the step solved at the limit is a result too (as under a fixed load): the user sees
                     # how far from KIc the tips stayed, in its record and its files
@@ -270,7 +271,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
                     status = f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the " \
                         f"largest K_eq is {said} KIc)" + ("" if _scaled_load(case) else NOTHING_SCALES)
                     break
-                lam, solves = crit.load_factor, int(crit.solves)
+                held, lam, solves = lam, crit.load_factor, int(crit.solves)
             else:
                 solves = 1
             progress_now.doing(f"the solve at load factor {lam:.6g}")
@@ -315,6 +316,8 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
             record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
                                    states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips],
                                    KIc=case.material.KIc)
+            if prop.load in SEARCHED:
+                record.critical_load_factor = _own_critical(case, tips, grow, lam, held, homogeneous)
             with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
                 records.append(record)
                 shown = disc
@@ -389,7 +392,27 @@ def _slip_history(disc, fset):
     return SlipHistory.record(disc.cm, fset.fractures, disc.pair_slips())
 
 
-def _critical_load(case, disc, fset, grow, start):
+def _own_critical(case, tips, grow, lam, held, homogeneous: bool):
+    """The load factor at which the step's first growing tip reaches KIc,
+    though the run held a higher one (after the peak): where the response
+    scales with the load, lam KIc / K_eq(lam) (K proportional to the load on
+    the step's geometry); elsewhere the search's root where it rose above
+    the held load, and None where it started above KIc (path-dependent: a
+    lower critical load is not the answer of another loading)."""
+    if homogeneous:
+        k = max(tips[i].K_eq for i in grow)
+        return lam * case.material.KIc / k if k > 0 else None
+    return lam if lam > held else None
+
+
+def _homogeneous(case, disc, fset) -> bool:
+    """Does the step's whole response scale with the load factor (no in-situ stress or other fixed load,
+    no reference slip, no cohesion)?"""
+    rows = disc.contact.rows
+    return scales_with_load(case, fset) and not np.any(disc.contact.reference) and not np.any(rows.cohesion)
+
+
+def _critical_load(case, disc, fset, grow, start, homogeneous: bool):
     """critical_load.CriticalLoad: the load factor (>= start) at which the
     first of the tips `grow` reaches KIc, by the SIFs that drive growth.
     With friction every trial starts from the bracket's lower end (accepted
@@ -409,8 +432,6 @@ def _critical_load(case, disc, fset, grow, start):
         return k
 
     prop = case.propagation
-    rows = disc.contact.rows
-    homogeneous = scales_with_load(case, fset) and not np.any(disc.contact.reference) and not np.any(rows.cohesion)
     return critical_load_factor(keq, case.material.KIc, start, homogeneous, prop.max_load_factor,
                                 accept=disc.accept)
 
