@@ -234,7 +234,8 @@ def fractures_of_result(path: Path, result) -> dict:
         lines, states = faces.lines, faces.state
         tips = [{"x": t["x"], "y": t["y"]} for t in steps[-1]["tips"]]
     rosette = _rosette(mesh, tips)   # measured on the last step's mesh, at its tips
-    title = f"{s['title']}: {len(steps)} step{'s' if len(steps) != 1 else ''}"
+    # wrapped to the domain panel's width: longer, it ran over the zoom beside it
+    title = textwrap.fill(f"{s['title']}: {len(steps)} step{'s' if len(steps) != 1 else ''}", 60)
     if s["status"] != "finished":
         title += "\n" + textwrap.shorten(s["status"], 70)
     return plot_fractures(path, s["fractures"], tips=_tips_at_end(s), rosette=rosette, face_lines=lines,
