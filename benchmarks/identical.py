@@ -3,8 +3,9 @@ not change behaviour (a renovation): every case in cases/ runs as its own
 `wingcrack run` process (`wingcrack sif` where the case asks for no step),
 and a manifest records, per case, its exit code,
 summary.json without its timings (every "seconds" key dropped) and the
-SHA-256 of every step and face file (step_XXXX.vtu, faces_XXXX.vtu) and of
-the ParaView indices. Pictures are left out (drawn with --no-plots anyway,
+SHA-256 of every step and face file's decoded arrays (step_XXXX.vtu,
+faces_XXXX.vtu: their compressed bytes may differ for the same data) and of
+the ParaView indices' bytes. Pictures are left out (drawn with --no-plots anyway,
 and a picture's bytes follow matplotlib's version, not ours).
 
     .venv/bin/python benchmarks/identical.py --write FILE [--steps N] [--cases NAME ...]
@@ -29,6 +30,8 @@ import tempfile
 import tomllib
 from pathlib import Path
 
+import numpy as np
+
 from case_variant import variant_text
 from propagation import ROOT, run_case
 
@@ -39,7 +42,37 @@ def manifest_of(out: Path, run: dict) -> dict:
     files = sorted(p for p in out.iterdir() if p.suffix in (".vtu", ".pvd"))
     return {"exit": run["exit"],
             "summary": summary,
-            "files": {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in files}}
+            "files": {p.name: _digest(p) for p in files}}
+
+
+def _digest(path: Path) -> str:
+    """SHA-256 of what a file holds: a .vtu's decoded arrays (points, cells,
+    point, cell and field data, each with its name, dtype and shape), not its
+    bytes, whose zlib blocks may differ for the same data (the compressor's
+    output is not deterministic: two runs of one checkout differed in a
+    block that inflates to the same bytes); other files byte for byte."""
+    if path.suffix != ".vtu":
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    from meshio import vtu
+
+    mesh = vtu.read(str(path))
+    h = hashlib.sha256()
+
+    def add(name, a):
+        a = np.ascontiguousarray(a)
+        h.update(f"{name}:{a.dtype.str}:{a.shape};".encode())
+        h.update(a.tobytes())
+
+    add("points", mesh.points)
+    for i, block in enumerate(mesh.cells):
+        add(f"cells[{i}].{block.type}", block.data)
+    for kind, data in (("point", mesh.point_data), ("field", mesh.field_data)):
+        for name in sorted(data):
+            add(f"{kind}.{name}", data[name])
+    for name in sorted(mesh.cell_data):
+        for i, a in enumerate(mesh.cell_data[name]):
+            add(f"cell.{name}[{i}]", a)
+    return h.hexdigest()
 
 
 def _without_seconds(x):

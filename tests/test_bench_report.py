@@ -159,29 +159,40 @@ def test_a_variant_adds_missing_keys_and_tables():
 
 def test_the_identity_check_drops_timings_and_finds_every_other_difference(tmp_path):
     """benchmarks/identical.py (the renovation's check that results stay bitwise the same): timings
-    ("seconds", wherever they sit) are dropped; a changed number, a file's changed byte, a file that
-    appeared and a changed exit code are each reported, and a re-run that only timed differently is not."""
+    ("seconds", wherever they sit) are dropped; a step file's arrays compared decoded, so the same data
+    compressed otherwise is the same file; a changed number, a changed coordinate, a file that appeared
+    and a changed exit code are each reported, and a re-run that only timed differently is not."""
+    import meshio
+    import numpy as np
+
     import identical
 
-    def folder(name, vtu: bytes, extra=False):
+    def vtu(path, x, compression="zlib"):
+        points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, x, 0.0]])
+        meshio.Mesh(points, [("triangle", np.array([[0, 1, 2]]))], point_data={"u": points[:, :2]}).write(
+            path, file_format="vtu", compression=compression)
+
+    def folder(name, x=1.0, extra=False, compression="zlib"):
         d = tmp_path / name
         d.mkdir()
-        (d / "step_0000.vtu").write_bytes(vtu)
+        vtu(d / "step_0000.vtu", x, compression)
         (d / "fields.pvd").write_text("<pvd/>")
         (d / "fractures.png").write_bytes(b"picture")   # pictures are not compared
         if extra:
-            (d / "faces_0000.vtu").write_bytes(b"faces")
+            vtu(d / "faces_0000.vtu", x)
         return d
 
     summary = {"title": "t", "steps": [{"step": 0, "load_factor": 1.25, "seconds": {"mesh": 0.5}}]}
     slower = {"title": "t", "steps": [{"step": 0, "load_factor": 1.25, "seconds": {"mesh": 0.9}}]}
     moved = {"title": "t", "steps": [{"step": 0, "load_factor": 1.2500000000000002, "seconds": {"mesh": 0.5}}]}
-    a = identical.manifest_of(folder("a", b"vtu"), {"exit": 0, "summary": summary})
+    a = identical.manifest_of(folder("a"), {"exit": 0, "summary": summary})
     assert a["summary"] == {"title": "t", "steps": [{"step": 0, "load_factor": 1.25}]}
     assert set(a["files"]) == {"step_0000.vtu", "fields.pvd"}
-    same = identical.manifest_of(folder("b", b"vtu"), {"exit": 0, "summary": slower})
+    b = folder("b", compression=None)
+    assert (b / "step_0000.vtu").read_bytes() != (tmp_path / "a" / "step_0000.vtu").read_bytes()
+    same = identical.manifest_of(b, {"exit": 0, "summary": slower})
     assert identical.differences({"c": a}, {"c": same}) == []
-    other = identical.manifest_of(folder("c", b"vtU", extra=True), {"exit": 1, "summary": moved})
+    other = identical.manifest_of(folder("c", x=1.0 + 2 ** -52, extra=True), {"exit": 1, "summary": moved})
     lines = identical.differences({"c": a}, {"c": other})
     assert lines == ["c: exit 0 -> 1",
                      "c: summary.json differs (steps[0].load_factor: 1.25 -> 1.2500000000000002)",
