@@ -68,12 +68,20 @@ def mesh_with_gmsh(domain, plan: Plan, size, tip_size, sectors, sizes, algorithm
                sizes, half.center if mirror_sizes else None, box(domain), scratch)
     gmsh.option.setNumber("Mesh.Algorithm", algorithm)
     gmsh.model.mesh.generate(2)
+    points = point_tags(plan, anchor_tag, half)
+    return extract(boundary_curves, crack_curves, tip_point, points, divider, rim=rim(domain, boundary_curves))
+
+
+def point_tags(plan, anchor_tag, half) -> list[int]:
+    """The point tag of each bc point (plan.point_anchor's order); with
+    `half`, a bc point of the other half gets the point of its image, whose
+    node mesher._glue maps back."""
     points = [anchor_tag[a] for a in plan.point_anchor]
-    if half is not None:  # a bc point of the other half: the node of its image, mapped back by mesher._glue
+    if half is not None:
         points = [tag if half.left(plan.anchors[a][2]) else
                   anchor_at(plan, anchor_tag, point_symmetry.rotate(plan.anchors[a][2], half.center))
                   for tag, a in zip(points, plan.point_anchor)]
-    return extract(boundary_curves, crack_curves, tip_point, points, divider, rim=rim(domain, boundary_curves))
+    return points
 
 
 def rosette_curves(geo, t, sectors, meshed, tip_point, spoke, k):

@@ -15,8 +15,8 @@ import numpy as np
 
 from meshing import point_symmetry
 from meshing.far_cache import FarCache
-from meshing.gmsh_geometry import (anchor_at, box, fracture_curves, mirror_dividers, outer_curves,
-                                   rosette_curves, vertex_at)
+from meshing.gmsh_geometry import (box, fracture_curves, mirror_dividers, outer_curves, point_tags, rosette_curves,
+                                   vertex_at)
 from meshing.p2_readback import extract, rim
 from meshing.plan import Plan
 from meshing.records import RawMesh
@@ -242,13 +242,10 @@ def mesh_patched(domain, plan: Plan, size, tip_size, sectors, sizes, algorithm, 
         gmsh.option.setNumber("Mesh.MeshOnlyVisible", 1)
     gmsh.model.mesh.generate(2)
 
-    points = [anchor_tag[a] for a in plan.point_anchor]
+    points = point_tags(plan, anchor_tag, half)
     used_arcs = list(range(n))
     mirrored_arcs: list[int] = []
     if half is not None:
-        points = [tag if half.left(plan.anchors[a][2]) else
-                  anchor_at(plan, anchor_tag, point_symmetry.rotate(plan.anchors[a][2], half.center))
-                  for tag, a in zip(points, plan.point_anchor)]
         far_arcs = {(half.k_out + j) % n for j in range(n // 2)}
         patch_arcs = {(half.inner.k + j) % n for j in range(n // 2)}
         used_arcs = sorted(far_arcs | patch_arcs)
