@@ -1,7 +1,7 @@
 """The mesher's own mid nodes (p2_readback._P2) against gmsh's setOrder(2).
 
 gmsh meshes first order; _P2 adds a mid node on every edge. The reference
-is gmsh's own second-order mesh of the same session: after _extract has
+is gmsh's own second-order mesh of the same session: after p2_readback.extract has
 read the first-order mesh back, the test calls gmsh.model.mesh.setOrder(2)
 and compares. setOrder leaves the vertices where they are, so both meshes
 must have the same vertices (bit for bit) and the same cells; each mid node
