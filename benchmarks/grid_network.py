@@ -143,16 +143,14 @@ def main() -> None:
         return
 
     import wingcrack
-    import importlib
-
-    cm = importlib.import_module("meshing.crack_mesh")
+    from meshing import mesher
 
     wingcrack.Case.from_dict(d)  # warm-up: imports, the kernels
     t_check = best(lambda: wingcrack.Case.from_dict(d), args.repeat)
     c = wingcrack.Case.from_dict(d)
 
     def plan():
-        pending = cm.start_crack_mesh(c.domain, c.fracture_points(), c.bc_points(), c.mesh.size, c.mesh.tip_size,
+        pending = mesher.start_crack_mesh(c.domain, c.fracture_points(), c.bc_points(), c.mesh.size, c.mesh.tip_size,
                                       sectors=c.mesh.sectors, timeout=None)
         pending.cancel()
 

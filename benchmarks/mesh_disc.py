@@ -13,7 +13,7 @@ R, A = 0.042, 0.005
 
 
 def main(repeat: int = 3) -> None:
-    from meshing.crack_mesh import crack_mesh
+    from meshing.mesher import crack_mesh
     from meshing.domain import Domain
 
     c = A / np.sqrt(2.0)

@@ -26,7 +26,7 @@ PHASES = ["mesh", "to_dolfinx", "assemble", "factorize", "contact", "solve", "si
 
 def mesh_dofs(size: float) -> int:
     """P2 DOFs of the case's mesh at a uniform element size (meshing only)."""
-    from meshing.crack_mesh import crack_mesh
+    from meshing.mesher import crack_mesh
     from wingcrack.case import Case
 
     case = Case.from_toml(CASE)

@@ -1,5 +1,5 @@
 """What geometry can be meshed: the one set of rules that `wingcrack check`
-(wingcrack/case.py), the mesher (meshing/crack_mesh.py), meshing.Domain and
+(wingcrack/case.py), the mesher (meshing/mesher.py), meshing.Domain and
 the growth of tips (propagation/joining.py) share, so that what the check
 accepts the mesher meshes, and what growth makes the next mesh takes.
 
@@ -41,12 +41,12 @@ from meshing import network
 REL_TOL = 1e-9
 #: The domain sizes (m across) the mesher and solver take. The mesher hands
 #: gmsh the geometry in a frame where the domain is 1e-3 to 1e3 units across
-#: (crack_mesh._Frame): gmsh alone fails to recover edges ("Unable to
+#: (frame.Frame): gmsh alone fails to recover edges ("Unable to
 #: recover the edge", then aborts) at 6e-9 m and below.
 LENGTH_RANGE = (1e-9, 1e9)
 #: Coordinates at most this many domain sizes from the origin: beyond it the
 #: rounding of a coordinate (|x| 2.2e-16) nears the geometric tolerance REL_TOL.
-#: (gmsh itself sees the domain near its origin: crack_mesh._Frame.)
+#: (gmsh itself sees the domain near its origin: frame.Frame.)
 MAX_OFFSET = 1e6
 #: mesh.tip_size at least this fraction of the domain size: a smaller rosette
 #: lies within 1000 geometric tolerances of its tip.

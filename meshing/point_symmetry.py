@@ -58,7 +58,7 @@ class Inner:
 
     radius: float
     u: np.ndarray  # direction; inside the circle gmsh meshes the half on its left
-    k: int  # the circle node at c + radius u (crack_mesh._circle_points)
+    k: int  # the circle node at c + radius u (patch.Circle.points)
     points: np.ndarray  # (2j+1, 2) vertices from R(c + radius u) to c + radius u: crossings, centre
     angle: float
 

@@ -1,12 +1,12 @@
-"""The records that pass between the mesher's stages (meshing/crack_mesh.py).
+"""The records that pass between the mesher's stages (meshing/mesher.py).
 
-gmsh's mesh read back (RawMesh, from `_extract`; for a point-symmetric
+gmsh's mesh read back (RawMesh, from `p2_readback.extract`; for a point-symmetric
 geometry one half, completed by point_symmetry.glue) -> the crack faces split
 apart (SplitMesh, from wingcrack_kernels.split_faces) -> the CrackMesh the
 caller gets. RawMesh crosses the meshing worker's process boundary pickled,
 so both are module-level classes of numpy arrays and tuples.
 
-Both are in gmsh's frame (crack_mesh._Frame: the caller's coordinates moved
+Both are in gmsh's frame (frame.Frame: the caller's coordinates moved
 and scaled by a power of two), before the quarter points are moved. Node
 indices are 0-based rows of `x`; cells are P2 triangles in gmsh's order
 [v0, v1, v2, m01, m12, m20], counter-clockwise; an edge is [a, b, mid].
@@ -29,7 +29,7 @@ def _no_nodes() -> np.ndarray:
 class RawMesh:
     """gmsh's P2 mesh, each node once (the crack faces still joined).
 
-    Tip and point entries follow the plan's order (crack_mesh._Plan.tips and
+    Tip and point entries follow the plan's order (plan.Plan.tips and
     .point_anchor, i.e. the caller's bc points)."""
 
     #: (n, 2) float64: node coordinates; gmsh's nodes that no cell uses are
@@ -65,7 +65,7 @@ class RawMesh:
     #: (m,) bool: True for the cells of the far field (outside crack_mesh's
     #: patch circle; after glue: then their images); None without a patch.
     far: np.ndarray | None = None
-    #: True when the far field's cells were taken from the last call's (crack_mesh._FarCache).
+    #: True when the far field's cells were taken from the last call's (far_cache.FarCache).
     far_reused: bool = False
 
 

@@ -10,7 +10,6 @@ breaks (the measurements behind the thresholds, in admissibility.py).
 """
 from __future__ import annotations
 
-import importlib
 import math
 
 import numpy as np
@@ -23,8 +22,6 @@ from wingcrack import cli
 from wingcrack.errors import CaseError
 
 from admissibility_cases import H, THRESHOLD, base, family, place, to_toml
-
-crack_mesh_module = importlib.import_module("meshing.crack_mesh")
 
 
 def sector_quality(sectors: int) -> float:

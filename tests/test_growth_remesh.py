@@ -13,7 +13,7 @@ import pytest
 
 import wingcrack.step as step
 from builders import square_plate_with_cracks
-from meshing.crack_mesh import triangle_quality
+from meshing.mesher import triangle_quality
 from wingcrack.api import run
 from wingcrack.case import Case
 

@@ -11,7 +11,7 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from meshing.crack_mesh import crack_mesh
+from meshing.mesher import crack_mesh
 from meshing.domain import Domain
 
 # -- the three meshes -------------------------------------------------------------

@@ -12,8 +12,9 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from meshing.crack_mesh import ROSETTE_IN_SEGMENT, crack_mesh
-from meshing.crack_mesh import _gmsh_session as _real_session   # as imported: before any monkeypatch
+from meshing import crack_mesh, mesher
+from meshing.gmsh_session import gmsh_session as _real_session   # as imported: before any monkeypatch
+from meshing.plan import ROSETTE_IN_SEGMENT
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout
 
@@ -137,7 +138,7 @@ def stuck_frontal(*a):
 
     if a[-1] == 6:       # the algorithm of the first attempt
         time.sleep(60)
-    return sys.modules["meshing.crack_mesh"]._gmsh_session(*a)   # in the worker: the real one
+    return sys.modules["meshing.mesher"].gmsh_session(*a)   # in the worker: the real one
 
 
 def stuck(*a):
@@ -148,17 +149,15 @@ def test_a_hanging_gmsh_is_retried_once_then_fails(monkeypatch):
     """gmsh stuck (simulated: the Frontal-Delaunay attempt sleeps) -> killed
     at the limit and retried once with Delaunay and coarser sizes; stuck
     twice -> MeshTimeout, which the propagation loop turns into 'failed:'."""
-    import sys
-    cm_mod = sys.modules["meshing.crack_mesh"]
     domain, fr, plain = t_junction_mesh()
 
-    monkeypatch.setattr(cm_mod, "_gmsh_session", stuck_frontal)
+    monkeypatch.setattr(mesher, "gmsh_session", stuck_frontal)
     t0 = time.perf_counter()
     mesh = crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=2.0)
     assert mesh.stats["gmsh_retried"] is True and time.perf_counter() - t0 < 10.0
     assert len(mesh.tips) == len(plain.tips) and len(mesh.pairs) > 0
 
-    monkeypatch.setattr(cm_mod, "_gmsh_session", stuck)
+    monkeypatch.setattr(mesher, "gmsh_session", stuck)
     with pytest.raises(MeshTimeout, match="did not finish within 1 s"):
         crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=1.0)
 
@@ -179,10 +178,8 @@ def test_an_error_after_gmsh_reaches_the_caller_as_it_was_raised(monkeypatch):
     """The worker finishes the mesh (split faces, quarter points, the
     Jacobian check): an inverted cell found there is raised in the caller
     with its own type and message, as when the caller finished the mesh."""
-    import sys
-    cm_mod = sys.modules["meshing.crack_mesh"]
     domain, fr, _ = t_junction_mesh()
-    monkeypatch.setattr(cm_mod, "_gmsh_session", inverted)
+    monkeypatch.setattr(mesher, "gmsh_session", inverted)
     for timeout in (30.0, None):   # in the meshing worker, and in this process
         with pytest.raises(RuntimeError, match=r"^mesh cell 0 has min det J = -"):
             crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=timeout)

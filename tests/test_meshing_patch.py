@@ -1,4 +1,4 @@
-"""The patch circle of crack_mesh (meshing/crack_mesh.py, `patch`).
+"""The patch circle of crack_mesh (`patch`; meshing/patch.py).
 
 What it is for: the far field's stiffness is factorised once and condensed
 onto the circle, so the cells outside it must come out the same, bit for
@@ -19,21 +19,21 @@ without a patch. A patch that does not fit is ignored: the mesh is then
 the one without a patch, array for array.
 
 The mesher keeps the last far field it meshed and does not mesh it again
-when a call's far field is the same (crack_mesh._FarCache). The identity
+when a call's far field is the same (far_cache.FarCache). The identity
 tests switch that off (every call meshes its far field: they compare two
 meshings, not a cache with itself); the reuse tests compare the mesh made
 with a reused far field against the one made meshing it, every array
 bit for bit.
 """
-import importlib
 
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
 from meshing import Domain, crack_mesh
-from meshing.crack_mesh import triangle_quality
-crack_mesh_module = importlib.import_module("meshing.crack_mesh")
+from meshing import far_cache
+from meshing import patch as patch_module   # `patch` is the tests' own name for a patch
+from meshing.mesher import triangle_quality
 
 R = 0.042
 DISC = Domain("disc", center=[0.0, 0.0], radius=R)
@@ -54,11 +54,11 @@ ROUND_OFF = 1e-12  # of the domain's size, as tests/test_meshing_symmetry.py
 @pytest.fixture(autouse=True)
 def mesh_every_far_field(request, monkeypatch):
     """No far field reused, but in the tests of the reuse (test_reuse_*)."""
-    crack_mesh_module._FarCache.clear()
+    far_cache.FarCache.clear()
     if not request.function.__name__.startswith("test_reuse"):
-        monkeypatch.setattr(crack_mesh_module._FarCache, "get", classmethod(lambda cls, key: None))
+        monkeypatch.setattr(far_cache.FarCache, "get", classmethod(lambda cls, key: None))
     yield
-    crack_mesh_module._FarCache.clear()
+    far_cache.FarCache.clear()
 
 
 def crack(phi_deg, half=0.005, at=(0.0, 0.0)):
@@ -285,7 +285,7 @@ def test_a_tip_just_beyond_the_clearance_keeps_the_far_field():
     """The crack grown until its tips are 1.001 clearances off the circle
     (the nearest the rule lets them come) against a short one."""
     size, tip = DISC_MESH["size"], DISC_MESH["tip_size"]
-    reach = crack_mesh_module._patch_clearance(size, tip, tip, DISC_MESH["sectors"])
+    reach = patch_module._patch_clearance(size, tip, tip, DISC_MESH["sectors"])
     half = DISC_PATCH[1] - 1.001 * reach
     a = crack_mesh(DISC, [crack(135, 0.002)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     b = crack_mesh(DISC, [crack(135, half)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
@@ -296,7 +296,7 @@ def test_a_tip_within_reach_changes_the_far_field(monkeypatch):
     """The control: with the clearance rule switched off, a tip 2 mm off the
     circle (the tip's size field reaches 2.8 mm further) changes the far
     field, and the comparison sees it."""
-    monkeypatch.setattr(crack_mesh_module, "_patch_clearance", lambda *args: 0.0)
+    monkeypatch.setattr(patch_module, "_patch_clearance", lambda *args: 0.0)
     a = crack_mesh(DISC, [crack(135, 0.005)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     b = crack_mesh(DISC, [crack(135, 0.018)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     assert a.stats["patch"] and b.stats["patch"]
@@ -387,7 +387,7 @@ def test_reuse_of_the_far_field_gives_the_mesh_meshing_it_gives(name):
     sizes = disc_sizes(False) if sized else None
     a = crack_mesh(domain, first, points, **kw, sizes=sizes, patch=patch)
     reused = crack_mesh(domain, second, points, **kw, sizes=sizes, patch=patch)
-    crack_mesh_module._FarCache.clear()
+    far_cache.FarCache.clear()
     meshed = crack_mesh(domain, second, points, **kw, sizes=sizes, patch=patch)
     assert not a.stats["far_reused"] and reused.stats["far_reused"] and not meshed.stats["far_reused"]
     assert_same_mesh(reused, meshed)
@@ -427,13 +427,13 @@ def test_reuse_of_a_far_field_that_does_not_fit_meshes_it():
     """A kept far field whose boundary node is off by one ulp (as if gmsh
     had meshed a boundary curve otherwise): not glued, meshed instead."""
     crack_mesh(DISC, [crack(135)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
-    key, (cells, interior) = crack_mesh_module._FarCache._last
+    key, (cells, interior) = far_cache.FarCache._last
     k = np.flatnonzero(~interior.ravel())[0]
     cells = cells.copy()
     cells.reshape(-1, 2)[k, 0] = np.nextafter(cells.reshape(-1, 2)[k, 0], np.inf)
-    crack_mesh_module._FarCache._last = (key, (cells, interior))
+    far_cache.FarCache._last = (key, (cells, interior))
     again = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     assert again.stats["patch"] and not again.stats["far_reused"]
-    crack_mesh_module._FarCache.clear()
+    far_cache.FarCache.clear()
     meshed = crack_mesh(DISC, [winged(135, 0.0015)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     assert_same_mesh(again, meshed)

@@ -1,7 +1,7 @@
-"""The mesher's own mid nodes (crack_mesh._P2) against gmsh's setOrder(2).
+"""The mesher's own mid nodes (p2_readback._P2) against gmsh's setOrder(2).
 
 gmsh meshes first order; _P2 adds a mid node on every edge. The reference
-is gmsh's own second-order mesh of the same session: after _extract has
+is gmsh's own second-order mesh of the same session: after p2_readback.extract has
 read the first-order mesh back, the test calls gmsh.model.mesh.setOrder(2)
 and compares. setOrder leaves the vertices where they are, so both meshes
 must have the same vertices (bit for bit) and the same cells; each mid node
@@ -17,16 +17,14 @@ meshes, before glue mirrors it).
 """
 from __future__ import annotations
 
-import importlib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from meshing import Domain, crack_mesh
+from meshing import Domain, crack_mesh, far_cache, gmsh_geometry
+from meshing import patch as patch_module
 from wingcrack.case import Case
-
-cm = importlib.import_module("meshing.crack_mesh")
 
 CASES = sorted((Path(__file__).resolve().parent.parent / "cases").glob("*.toml"))
 # On a straight edge both compute the same point in float64 from the same
@@ -63,11 +61,11 @@ def _gmsh_p2():
 
 
 class Reference:
-    """Wraps crack_mesh._extract: every mesh read back is compared with
+    """Wraps p2_readback.extract: every mesh read back is compared with
     gmsh's setOrder(2) of the same session."""
 
     def __init__(self):
-        self.original = cm._extract
+        self.original = gmsh_geometry.extract
         self.meshes: list[dict] = []
 
     def __call__(self, *args, **kwargs):
@@ -141,10 +139,12 @@ def raw_ends(raw, cells):
 @pytest.fixture
 def reference(monkeypatch):
     ref = Reference()
-    monkeypatch.setattr(cm, "_extract", ref)
-    cm._FarCache.clear()  # every far field meshed: gmsh's setOrder then sees all cells
+    # where extract is looked up: the whole domain's meshing and the patched one's
+    monkeypatch.setattr(gmsh_geometry, "extract", ref)
+    monkeypatch.setattr(patch_module, "extract", ref)
+    far_cache.FarCache.clear()  # every far field meshed: gmsh's setOrder then sees all cells
     yield ref
-    cm._FarCache.clear()
+    far_cache.FarCache.clear()
 
 
 @pytest.mark.parametrize("path", CASES, ids=lambda p: p.stem)
@@ -173,7 +173,7 @@ def crack(phi_deg, half, at=(0.0, 0.0)):
 def test_patched_rectangle(reference):
     """A patch circle in a plate (as tests/test_meshing_patch.py's), one
     fracture inside, one outside: the circle's one-edge arcs get
-    _Circle.mids, which must be gmsh's arc middles too."""
+    patch.Circle.mids, which must be gmsh's arc middles too."""
     rect = Domain("rectangle", corner=[0.0, 0.0], size=[0.1, 0.06])
     points = [np.array([0.05, 0.0]), np.array([0.0, 0.0]), np.array([0.1, 0.06])]
     patch = (np.array([0.066, 0.033]), 0.016)

@@ -20,7 +20,7 @@ import pytest
 from builders import square_plate_with_cracks
 from processes import alive
 from meshing import worker
-from meshing.crack_mesh import crack_mesh, start_crack_mesh
+from meshing import crack_mesh, start_crack_mesh
 from meshing.domain import Domain
 from meshing.timeout import MeshTimeout, start_with_timeout
 
@@ -129,7 +129,7 @@ def test_meshing_in_the_worker_leaves_gmsh_out_of_this_process_and_in_process_ke
     out = run_python("""
         import signal, sys
         import numpy as np
-        from meshing.crack_mesh import crack_mesh
+        from meshing import crack_mesh
         from meshing.domain import Domain
         args = (Domain("rectangle", corner=[-1.0, -1.0], size=[2.0, 2.0]), [np.array([[-0.3, -0.1], [0.3, 0.1]])], [], 0.4, 0.04)
         crack_mesh(*args, timeout=60.0)
@@ -185,15 +185,14 @@ def plate_case(steps):
 def test_a_mesh_that_fails_is_the_failure_of_its_own_step(tmp_path, monkeypatch, where):
     """The mesh of step 1 is begun during step 0; when it fails (refused at
     the start, or in gmsh), step 1 fails and step 0 stays whole on disk."""
-    import importlib
     import json
 
-    cm = importlib.import_module("meshing.crack_mesh")   # the module: meshing.crack_mesh is also the function
+    from meshing import mesher   # where wingcrack.step looks start_crack_mesh up
     from wingcrack.api import run
     from wingcrack.errors import ComputationError
 
     calls = []
-    real = cm.start_crack_mesh
+    real = mesher.start_crack_mesh
 
     class Failing:
         def result(self):
@@ -210,7 +209,7 @@ def test_a_mesh_that_fails_is_the_failure_of_its_own_step(tmp_path, monkeypatch,
             return Failing()
         return real(*args, **kw)
 
-    monkeypatch.setattr(cm, "start_crack_mesh", start)
+    monkeypatch.setattr(mesher, "start_crack_mesh", start)
     with pytest.raises(ComputationError, match="failed: step 1: "):
         run(plate_case(3), tmp_path / "out", plots=False)
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())

@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial import Delaunay
 
 import wingcrack_kernels as K
-from meshing import Domain, crack_mesh
+from meshing import Domain, crack_mesh, size_field
 
 
 def _random_field(seed=0, n=60):
@@ -122,19 +122,16 @@ def test_the_grid_is_half_the_smallest_size_and_capped():
     """The grid covers the box at half the smallest size; a huge box or a tiny
     size (and a thin box, where the +2 nodes of the short side count) is
     coarsened to at most GRID_MAX_NODES nodes instead."""
-    import sys
-
-    cm = sys.modules["meshing.crack_mesh"]
-    lo, step, counts = cm._grid((np.array([-0.042, -0.042]), np.array([0.042, 0.042])), 0.0005)
+    lo, step, counts = size_field._grid((np.array([-0.042, -0.042]), np.array([0.042, 0.042])), 0.0005)
     assert step == 0.5 * 0.0005 and counts.tolist() == [338, 338] and np.all(lo == -0.042)
     # the last node strictly beyond the box (gmsh reads a point on it as outside), the one before not
     assert np.all(lo + (counts - 1) * step > 0.042) and np.all(lo + (counts - 2) * step <= 0.042 + 1e-15)
     for box, smallest in [((np.zeros(2), np.array([1e3, 1e3])), 1e-4),
                           ((np.zeros(2), np.array([1e3, 1e-3])), 1e-7),
                           ((np.zeros(2), np.array([1.0, 1.0])), 1e-5)]:
-        lo, step, counts = cm._grid(box, smallest)
-        assert counts.prod() <= cm.GRID_MAX_NODES and np.all(lo + (counts - 1) * step > box[1])
-        assert counts.prod() > 0.5 * cm.GRID_MAX_NODES   # coarsened no more than needed
+        lo, step, counts = size_field._grid(box, smallest)
+        assert counts.prod() <= size_field.GRID_MAX_NODES and np.all(lo + (counts - 1) * step > box[1])
+        assert counts.prod() > 0.5 * size_field.GRID_MAX_NODES   # coarsened no more than needed
 
 
 def test_the_grid_covers_only_where_the_field_binds():
@@ -143,14 +140,13 @@ def test_the_grid_covers_only_where_the_field_binds():
     nodes at the same spacing), and the mesh is as fine as the field
     asks inside it and at `size` far from it: outside the grid gmsh reads
     `size`, which is what the field is there."""
-    cm = sys.modules["meshing.crack_mesh"]
     size = 0.5
     pts = np.array([[x, y] for x in np.linspace(0, 10, 11) for y in np.linspace(0, 10, 11)])
     tri = Delaunay(pts)
     cells = pts[tri.simplices]
     inside = np.all((cells >= 4 - 1e-12) & (cells <= 6 + 1e-12), axis=(1, 2))
     vals = np.where(inside[:, None], 0.05, size) * np.ones((len(cells), 3))
-    lo, hi = cm._binding_box(cells, vals, (np.zeros(2), np.full(2, 10.0)), size)
+    lo, hi = size_field._binding_box(cells, vals, (np.zeros(2), np.full(2, 10.0)), size)
     assert np.all(lo >= 4 - 0.3 - 1.0 - 1e-9) and np.all(hi <= 6 + 0.3 + 1.0 + 1e-9)   # pad: 0.1 x 2 + a cell
     assert np.all(lo <= 4) and np.all(hi >= 6)
     domain = Domain("rectangle", corner=[0.0, 0.0], size=[10.0, 10.0])

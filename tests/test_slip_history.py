@@ -26,7 +26,7 @@ coinciding arc lengths, 1e-10 of the slip, is checked as written.
 import numpy as np
 import pytest
 
-from meshing.crack_mesh import crack_mesh
+from meshing import crack_mesh
 from meshing.domain import Domain
 from wingcrack.contact.slip_history import KEYS, SlipHistory, pair_arc_lengths
 from wingcrack.propagation.fracture_set import GrowingFracture

@@ -273,7 +273,7 @@ class MeshRequest:
     also an error of the start, which is raised there and not before)."""
 
     def __init__(self, case, fractures, sizes, timeout, patch=None):
-        from meshing.crack_mesh import start_crack_mesh
+        from meshing.mesher import start_crack_mesh
 
         from .parallel import RootPending
 

@@ -49,13 +49,13 @@ class Patch:
 def clearance(case) -> float:
     """The room the mesher asks between the circle and any fracture (and,
     with `boundary_clearance`, the outer boundary): meshing's own rule."""
-    from meshing.crack_mesh import patch_clearance
+    from meshing.patch import patch_clearance
 
     return patch_clearance(case.mesh.size, case.mesh.tip_size, case.mesh.sectors)
 
 
 def boundary_clearance(case) -> float:
-    from meshing.crack_mesh import patch_boundary_clearance
+    from meshing.patch import patch_boundary_clearance
 
     return patch_boundary_clearance(case.mesh.size)
 
