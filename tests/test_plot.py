@@ -195,6 +195,20 @@ def test_history_draws_the_values_of_summary_json(run, tmp_path):
         assert np.array_equal(y, want)
 
 
+def test_the_run_records_its_toughness_and_history_draws_it(run, tmp_path):
+    """summary.json of a real run holds the case's KIc (1.0e6 in PLATE), and history.png's KIc line is
+    drawn at it: the line the tips' K_eq is held against comes from the result, not from a guess."""
+    from wingcrack.io.history import plot_history
+
+    summary = run[2]
+    assert summary["KIc"] == 1.0e6
+    drawn = plot_history(tmp_path / "history.png", summary)
+    assert np.all(drawn["KIc"][1] == 1.0e6)
+    # the run is searched and frictionless: each step records its own critical load factor, at most the held one
+    for s in summary["steps"]:
+        assert s["critical_load_factor"] <= s["load_factor"] * (1 + 1e-9)
+
+
 def test_k_eq_is_computed_when_a_summary_lacks_it(run):
     """A contract summary need not hold K_eq: eq. (10) from KI, KII, theta."""
     from wingcrack.io.history import history
