@@ -42,14 +42,11 @@ def gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_size
 
 
 # gmsh's relative precision when it integrates 1 / h along a curve to place the
-# curve's nodes. Its default 1e-9 made the 1D pass a third of gmsh's time on the
-# paper's 4.4 meshes (the size grid's kinks, every half smallest size, each
-# resolved to that precision along every boundary and fracture curve): 2.6 s
-# of 7.6 over multi_fractures_shear's 35 meshes; 1e-7: 1.3 s, 1e-6: 0.9 s.
-# 1e-7, not 1e-6: at 1e-6 the nodes moved enough that the adaptive open disc
-# ended its 34 steps 1.2 % below its DOFs at the default (13,288 against
-# 13,448; 1e-7: 13,480) and three_fractures_friction, whose tips stand at
-# K_eq = 1.0007 KIc at step 5, took another path; at 1e-7 both as at 1e-9.
+# curve's nodes. Its default 1e-9 spends a third of gmsh's time in the 1D pass
+# on meshes with a fine size grid (each kink of the grid resolved to it along
+# every curve). 1e-7 places the nodes as 1e-9 does for every shipped case's
+# path; at 1e-6 the nodes move enough that a tip standing just above KIc can
+# take another path.
 LC_INTEGRATION_PRECISION = 1e-7
 
 

@@ -60,7 +60,7 @@ FACET_ORDER = 8
 #: the last step |dX| (reference units). Newton converges quadratically, so
 #: the points are then at round-off; skfem's own 1e-12 lies at that floor on
 #: the faces next to a tip, where the quarter-point map's Jacobian is small
-#: (steps stall at 2e-12 on cases/three_fractures_injection.toml).
+#: (there the steps stall near 2e-12).
 NEWTON_TOL = 1e-10
 #: A bc point and its mesh node coincide to this (times the domain length scale).
 NODE_TOL = 1e-9

@@ -27,7 +27,7 @@ from .solution_span import SolutionSpan
 
 BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
 #: MUMPS ICNTL(27), right-hand sides treated together in the solve phase
-#: (the value measured best: README, "Several processes")
+#: (the value that solved fastest in the benchmarks of several processes)
 RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
 #: pair-force responses K^-1 B mu kept for mu in their span (fem.solution_span): the

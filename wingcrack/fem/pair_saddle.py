@@ -44,10 +44,9 @@ from . import mumps_failure
 from .solution_span import SolutionSpan
 
 _PREFIX = "wingcrack_saddle_"
-#: at most this many changed rows are solved by an update of the factorisation kept. On 1.1M DOFs a
-#: numeric factorisation costs 5.3 s, one solve 0.76 s, a column of F^-1 0.12 s among 40 solved together
-#: (_columns): an update with 60 new columns costs about a factorisation, and its columns serve the sets
-#: after it (the last sets change the same few rows back and forth)
+#: at most this many changed rows are solved by an update of the factorisation kept: an update's
+#: columns of F^-1, solved together in blocks, cost about a numeric factorisation at this many, and
+#: they serve the sets after it (an active set's last iterations change the same few rows back and forth)
 REUSE_ROWS = 60
 #: and at most this many bytes of those columns on a process (a column is 8 bytes a local dof)
 REUSE_BYTES = 1 << 30
@@ -58,11 +57,9 @@ BLOCK = 16
 UPDATE_RESIDUAL = 1e-11
 #: nor one whose capacitance matrix I + D Z is this ill-conditioned (the set near singular)
 UPDATE_CONDITION = 1e10
-#: MUMPS ICNTL(7) of the analysis: approximate minimum fill. PORD (MUMPS's own choice in this build,
-#: which has neither METIS nor SCOTCH) fills less but orders slowly: on the 1,000-fracture network's
-#: system (3.8M unknowns) its analysis took 36 s against AMF's 22 s, each numeric factorisation
-#: 18.3 s against 17.8 s and each solve 2.0 s against 2.1 s (1.3M unknowns: 9 s against 3 s, the
-#: same factorisations); a set's factorisation is memory-bound, not flop-bound (AMF: 29 % more flops)
+#: MUMPS ICNTL(7) of the analysis: approximate minimum fill. PORD (MUMPS's own choice in a build
+#: without METIS and SCOTCH, as Debian's) fills less but orders several times slower on large pair
+#: systems, while a set's numeric factorisation is memory-bound, not flop-bound, and costs the same
 ORDERING = 2
 
 
