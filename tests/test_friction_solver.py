@@ -9,8 +9,9 @@ import pytest
 
 from wingcrack.contact.active_set import solve_active_set
 from wingcrack.errors import ComputationError
-from wingcrack.contact.friction import (OPEN, SLIP, STATE_BAND, STICK, FrictionRows, _fixed_point, _Problem,
-                                       fixed_point_solve, solve_friction)
+from wingcrack.contact.friction import OPEN, SLIP, STATE_BAND, STICK, FrictionRows, fixed_point_solve, solve_friction
+from wingcrack.contact.friction_fixed_point import fixed_point
+from wingcrack.contact.friction_problem import PairProblem
 
 DATA = Path(__file__).parent / "data"
 
@@ -251,11 +252,11 @@ def test_every_random_pair_system_with_cohesion_solves(cohesion):
         opening = (res.jump - res.reference)[law.partner[ci]]
         lost = ci[~res.cohesive[ci] & (opening < res.touch)]
         assert len(lost) == res.broken
-        P = _Problem.of(S, jump0, target, normal, ~normal & ~law.coulomb, law, None)
+        P = PairProblem.of(S, jump0, target, normal, ~normal & ~law.coulomb, law, None)
         for row in lost:   # given back its cohesion alone, the pair opens beyond 2 tol
             C = res.cohesive.copy()
             C[row] = True
-            again = _fixed_point(P, [], C)
+            again = fixed_point(P, [], C)
             assert (again.jump - again.reference)[law.partner[row]] > 2 * res.touch, (seed, row)
     if cohesion == 0.05:
         # the seeds that failed before are where bonds break (no state satisfies the law there)
@@ -291,14 +292,14 @@ def test_the_stalled_network_system_solves_fast():
 
 
 def _recording(S, jump0, target, normal, law):
-    """A _Problem whose sets are solved through P.solve (as fem.pair_saddle's are), each set recorded."""
-    from wingcrack.contact.friction import _solve_set
+    """A PairProblem whose sets are solved through P.solve (as fem.pair_saddle's are), each set recorded."""
+    from wingcrack.contact.friction_sets import solve_state_set
 
-    P = _Problem.of(S, jump0, target, normal, ~normal & ~np.asarray(law.coulomb), law, None)
+    P = PairProblem.of(S, jump0, target, normal, ~normal & ~np.asarray(law.coulomb), law, None)
     sets = []
 
     def solve(A, T, sign, C):
-        mu, _ = _solve_set(P, A, T, sign, C)
+        mu, _ = solve_state_set(P, A, T, sign, C)
         sets.append((T.copy(), sign.copy(), jump0 + S @ mu - target))
         return mu, jump0 + S @ mu
 
@@ -312,14 +313,14 @@ def test_a_slip_whose_increment_turns_back_sticks_before_it_reverses(sign):
     increment of a slipping set runs against its direction the next set sticks, never the opposite slip
     (straight to it, a fracture's pairs alternated between the two directions, each with its increment
     against it, and the sets cycled: a network of 1,000 fractures); it ends at the closed form."""
-    from wingcrack.contact.friction import _active_set
+    from wingcrack.contact.friction_sets import iterate_states
 
     S = np.array([[1.0, 0.3], [0.3, 2.0]])
     jump0, target = np.array([-1.0, 0.8]), np.array([0.0, 0.1])
     law, normal = _law(1, 0.5, 0.0)
     P, sets = _recording(S, jump0, target, normal, law)
     states = (np.array([True, False]), np.array([OPEN, SLIP], np.int8), np.array([0.0, sign]))
-    res = _active_set(P, 1.0, 1.0, 40, [], states=states)
+    res = iterate_states(P, 1.0, 1.0, 40, [], states=states)
     assert res is not None and res.state[1] == STICK
     for (T, s, inc), (T_next, s_next, _) in zip(sets, sets[1:]):
         if T[1] == SLIP and s[1] * inc[1] < 0:
@@ -345,12 +346,13 @@ def _by_sets(S, jump0, target, normal, law):
     import dataclasses
 
     from wingcrack.contact.by_sets import solve_by_sets
-    from wingcrack.contact.friction import _parameters, _solve_set
+    from wingcrack.contact.friction_problem import complementarity_parameters
+    from wingcrack.contact.friction_sets import solve_state_set
 
-    P = _Problem.of(S, jump0, target, normal, ~normal & ~np.asarray(law.coulomb), law, None)
+    P = PairProblem.of(S, jump0, target, normal, ~normal & ~np.asarray(law.coulomb), law, None)
 
     def solve(A, T, sign, C):
-        mu, _ = _solve_set(P, A, T, sign, C)
+        mu, _ = solve_state_set(P, A, T, sign, C)
         return mu, jump0 + S @ mu
 
     def respond(A, T, sign, C, y):   # the rows y free (open), forces on them: the others' response
@@ -358,13 +360,13 @@ def _by_sets(S, jump0, target, normal, law):
         A0, T0, s0 = A & ~y, np.where(y, OPEN, T).astype(np.int8), np.where(y, 0.0, sign)
 
         def jumps(j0):
-            mu, _ = _solve_set(dataclasses.replace(P, jump0=j0), A0, T0, s0, C)
+            mu, _ = solve_state_set(dataclasses.replace(P, jump0=j0), A0, T0, s0, C)
             return (j0 + S @ mu)[rows]
 
         base = jumps(jump0)
         return base, np.stack([jumps(jump0 + S[:, k]) - base for k in rows], axis=1)
 
-    return solve_by_sets(solve, jump0, target, normal, law, _parameters(P)[0], respond=respond)
+    return solve_by_sets(solve, jump0, target, normal, law, complementarity_parameters(P)[0], respond=respond)
 
 
 @pytest.mark.parametrize("p", [12, 40])

@@ -118,7 +118,9 @@ def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
     one linear map, equal to round-off (the pair system's condition ~1e5: 1e-9 is far above it)."""
     import dataclasses
 
-    from wingcrack.contact.friction import OPEN, SLIP, STICK, _Problem, _solve_set
+    from wingcrack.contact.friction import OPEN, SLIP, STICK
+    from wingcrack.contact.friction_problem import PairProblem
+    from wingcrack.contact.friction_sets import solve_state_set
 
     case = Case.from_toml(CASES / "multi_fractures_friction.toml")
     dense = step.solve_initial(case)
@@ -135,11 +137,11 @@ def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
     y[closed] = True
     y[np.isin(law.partner, closed) & rows.coulomb] = True
     assert y.sum() == 6 and np.any(T[~y] == SLIP) and np.any(T[~y] == STICK)
-    P = _Problem.of(S, res.jump0, target, rows.normal, ~rows.normal & ~rows.coulomb, law, None)
+    P = PairProblem.of(S, res.jump0, target, rows.normal, ~rows.normal & ~rows.coulomb, law, None)
     A0, T0, s0 = A & ~y, np.where(y, OPEN, T).astype(np.int8), np.where(y, 0.0, sign)
 
     def jumps(j0):
-        mu, _ = _solve_set(dataclasses.replace(P, jump0=j0), A0, T0, s0, C)
+        mu, _ = solve_state_set(dataclasses.replace(P, jump0=j0), A0, T0, s0, C)
         return (j0 + S @ mu)[y]
 
     base = jumps(res.jump0)

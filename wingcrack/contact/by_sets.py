@@ -8,8 +8,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ComputationError
-from .friction import (MAX_ITERATIONS, OPEN, SCALINGS, SLIP, FrictionResult, FrictionRows, _active_set, _Problem,
-                       _start_states, _states, solve_friction)
+from .friction import solve_friction
+from .friction_problem import MAX_ITERATIONS, OPEN, SCALINGS, SLIP, FrictionResult, FrictionRows, PairProblem
+from .friction_sets import iterate_states, start_states, states_of
 
 
 def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, max_iter: int = MAX_ITERATIONS,
@@ -24,18 +25,18 @@ def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, ma
     times; then ComputationError."""
     normal = np.asarray(normal, bool)
     coulomb = np.asarray(law.coulomb, bool)
-    P = _Problem.of(None, jump0, target, normal, ~normal & ~coulomb, law, None)
+    P = PairProblem.of(None, jump0, target, normal, ~normal & ~coulomb, law, None)
     P.solve, P.c0 = solve, float(c0)
     history = []
     if getattr(start, "state", None) is not None and len(start.mu) == len(P.jump0):
-        res = _active_set(P, P.c0, P.c0, max_iter, history, states=_start_states(start, P))
+        res = iterate_states(P, P.c0, P.c0, max_iter, history, states=start_states(start, P))
         if res is not None:
             return res
     states = None
     for k in SCALINGS:
         # each scaling goes on from the sets where the last one cycled, not from the start: a set is a
         # factorisation of the whole saddle system here, and the first ones change thousands of rows
-        res = _active_set(P, P.c0 * k, P.c0 * k, max_iter, history, active, states=states)
+        res = iterate_states(P, P.c0 * k, P.c0 * k, max_iter, history, active, states=states)
         if res is not None:
             return res
         states = P.last_states
@@ -53,7 +54,7 @@ def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, ma
 SUBPROBLEM_ROUNDS = 4
 
 
-def _cycling_rows(P: _Problem, respond, max_iter, history) -> FrictionResult | None:
+def _cycling_rows(P: PairProblem, respond, max_iter, history) -> FrictionResult | None:
     """The rows the last cycle changed, with their pairs' other rows (Y),
     solved as a contact problem of their own by the dense solver and its
     fallbacks (solve_friction), their compliance and free jumps with every
@@ -88,10 +89,10 @@ def _cycling_rows(P: _Problem, respond, max_iter, history) -> FrictionResult | N
             T[rows] = np.where(sub_law.coulomb, state, OPEN)
             sign[rows] = np.where(T[rows] == SLIP, np.sign(-sub.mu), 0.0)
             C[rows] = np.where(sub_law.coulomb, sub.cohesive, False)
-        now = _states(A, T, sign, C)[rows]
+        now = states_of(A, T, sign, C)[rows]
         if res is not None and np.array_equal(now, before):
             return res                        # Y's answer on the others' states is the one they were solved with
-        res = _active_set(P, P.c0, P.c0, max_iter, history, states=(A, T, sign), frozen=y, C_start=C)
+        res = iterate_states(P, P.c0, P.c0, max_iter, history, states=(A, T, sign), frozen=y, C_start=C)
         if res is None:
             return None
         before = now
