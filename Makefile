@@ -72,8 +72,8 @@ test-py: setup
 # 200 random fracture networks, 10 steps each (make test runs 20), and 500 geometries on
 # the edge of the mesher's rules, each refused by the check or computed (make test runs 50)
 soak: setup
-	WINGCRACK_SOAK_SEEDS=200 WINGCRACK_PROPERTY_EXAMPLES=500 $(PY) -m pytest -q tests/test_random_networks.py \
-	  tests/test_admissibility_property.py
+	WINGCRACK_SOAK_SEEDS=200 WINGCRACK_PROPERTY_EXAMPLES=500 $(PY) -m pytest -q tests/robustness/test_random_networks.py \
+	  tests/robustness/test_admissibility_property.py
 
 bench: setup
 	$(PY) benchmarks/run.py --large
