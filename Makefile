@@ -21,7 +21,7 @@ STAMP := $(VENV)/.wingcrack-installed
 # Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
 KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
-.PHONY: setup apt venv demo test test-cpp test-cpp-sanitize test-py bench soak clean
+.PHONY: setup apt venv demo test test-fast test-cpp test-cpp-sanitize test-py bench soak clean
 
 setup: apt $(STAMP) $(KERNELSPEC)
 
@@ -68,6 +68,10 @@ test-cpp-sanitize: apt
 
 test-py: setup
 	$(PY) -m pytest -q
+
+# the tests not marked slow (tests/conftest.py): about 2 minutes
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
 
 # 200 random fracture networks, 10 steps each (make test runs 20), and 500 geometries on
 # the edge of the mesher's rules, each refused by the check or computed (make test runs 50)
