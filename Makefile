@@ -21,7 +21,7 @@ STAMP := $(VENV)/.wingcrack-installed
 # Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
 KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
-.PHONY: setup apt venv demo test test-cpp test-cpp-sanitize test-py bench soak clean
+.PHONY: setup apt venv demo test test-fast test-cpp test-cpp-sanitize test-py bench soak clean
 
 setup: apt $(STAMP) $(KERNELSPEC)
 
@@ -69,11 +69,15 @@ test-cpp-sanitize: apt
 test-py: setup
 	$(PY) -m pytest -q
 
+# the tests not marked slow (tests/conftest.py): about 2 minutes
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
+
 # 200 random fracture networks, 10 steps each (make test runs 20), and 500 geometries on
 # the edge of the mesher's rules, each refused by the check or computed (make test runs 50)
 soak: setup
-	WINGCRACK_SOAK_SEEDS=200 WINGCRACK_PROPERTY_EXAMPLES=500 $(PY) -m pytest -q tests/test_random_networks.py \
-	  tests/test_admissibility_property.py
+	WINGCRACK_SOAK_SEEDS=200 WINGCRACK_PROPERTY_EXAMPLES=500 $(PY) -m pytest -q tests/robustness/test_random_networks.py \
+	  tests/robustness/test_admissibility_property.py
 
 bench: setup
 	$(PY) benchmarks/run.py --large

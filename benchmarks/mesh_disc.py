@@ -1,4 +1,4 @@
-"""The mesh of the 45-degree Brazilian disc (tests/test_meshing.py's disc:
+"""The mesh of the 45-degree Brazilian disc (tests/unit/test_meshing.py's disc:
 R 42 mm, crack 2a = 10 mm, size 4 mm, tip_size 0.5 mm): crack_mesh's best
 wall-clock time of REPEAT after a warm-up (imports, page faults), with the
 gmsh share. Moved here from the test suite: a time is a measurement of the

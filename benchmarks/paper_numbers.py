@@ -6,7 +6,7 @@ B2 (Appendix B), as wingcrack computes them, for docs/paper.md:
 Table 1: the edge crack of Fig. 9 with L/b = 2, b/a = 2 (strip b = 1 m wide
 and L = 2 m high, crack a = 0.5 m, tension on the ends), uniform refinement
 h = b/4 ... b/64 with a 16-sector rosette of radius h/2 (as in the
-strain-energy test, tests/test_sif_edge_crack.py). Errors: KI against Tada's
+strain-energy test, tests/verification/test_sif_edge_crack.py). Errors: KI against Tada's
 F(a/b) (accurate to 0.5 % for a/b <= 0.6, h/b >= 1), the strain energy
 against its extrapolation from the two finest meshes with the fitted rate.
 

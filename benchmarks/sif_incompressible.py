@@ -3,7 +3,7 @@ strain approaches incompressibility (not a test; the README quotes it).
 
 A Griffith crack (2a = 2 m, at 45 degrees to a uniaxial remote tension of
 1 MPa in a plate 100a wide, plane strain, the mesh of
-tests/test_sif_griffith.py) is solved once for each Poisson ratio. Exact:
+tests/verification/test_sif_griffith.py) is solved once for each Poisson ratio. Exact:
 KI = KII = sigma sqrt(pi a) / 2. Printed: the relative errors of both
 methods against it, and their disagreement max(|KI - KI_M|, |KII - KII_M|)
 / K_M, the quantity wingcrack warns about above 1 %.

@@ -1,5 +1,5 @@
 """Geometries on the edge of the mesher's rules (meshing/admissibility.py),
-as case tables, for tests/test_admissibility*.py.
+as case tables, for tests/*/test_admissibility*.py.
 
 The base case of issue 12: the rectangle [-1, 1]^2, a crack
 (-0.1, -0.1)-(0.1, 0.1), tractions +-1 MPa on top and bottom, pins at
