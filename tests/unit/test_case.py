@@ -1,4 +1,4 @@
-"""The case model (wingcrack/case.py) against the contract /work/shared/spec/case-format.md.
+"""The case model (wingcrack/case/) against the contract /work/shared/spec/case-format.md.
 
 `INVALID` lists one bad input per row, each a patch of the valid `BASE` case,
 with the key the error must name and a fragment of its reason; test_cli.py

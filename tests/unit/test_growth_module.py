@@ -12,8 +12,8 @@ from meshing import Domain, admissibility, crack_mesh
 from wingcrack.case import Case, CaseError
 from wingcrack.propagation import growth
 from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
-from wingcrack.propagation.growth_law import L_MIN, length_problem
 from wingcrack.propagation.joining import place_tip
+from wingcrack.shortest_advance import L_MIN, length_problem
 
 H = 0.1                      # mesh.tip_size
 DOMAIN = Domain("rectangle", corner=[-2.0, -2.0], size=[4.0, 4.0])

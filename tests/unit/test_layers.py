@@ -76,6 +76,29 @@ def test_the_array_layers_load_without_dolfinx():
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)
 
 
+def test_the_case_does_not_know_the_propagation_loop():
+    """`check` reads a case without the loop: no file of wingcrack/case/ (or
+    the doc renderer) imports wingcrack.propagation, and importing the case
+    loads none of it (nor DOLFINx, nor gmsh)."""
+    def dotted(path: Path) -> set[str]:
+        out = set()
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Import):
+                out |= {a.name for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                out.add(node.module)
+        return out
+
+    files = sorted((ROOT / "wingcrack/case").glob("*.py")) + [ROOT / "wingcrack/case_doc.py"]
+    assert len(files) > 2 and "meshing.domain" in dotted(ROOT / "wingcrack/case/reader.py")   # the check sees imports
+    bad = {p.name: sorted(m for m in dotted(p) if m.startswith("wingcrack.propagation")) for p in files}
+    assert not any(bad.values()), bad
+    code = ("import sys; import wingcrack.case, wingcrack.case_doc; "
+            "bad = [m for m in sys.modules if m.startswith('wingcrack.propagation') or m in ('dolfinx', 'gmsh')]; "
+            "assert not bad, bad")
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)
+
+
 def test_the_kernels_have_one_name():
     """The compiled kernels are imported as `wingcrack_kernels` everywhere:
     a second name inside the package (the former wingcrack._kernels) is what

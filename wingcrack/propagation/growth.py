@@ -32,7 +32,8 @@ import wingcrack_kernels as K
 from ..errors import ComputationError
 from ..material import e_prime
 from ..parallel import snap
-from .growth_law import L_MIN, STRAIGHT, advances
+from ..shortest_advance import L_MIN
+from .growth_law import STRAIGHT, advances
 from .joining import placement
 
 #: the join distance, in rosette radii (see joining.py): the clearance the

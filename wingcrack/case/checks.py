@@ -1,0 +1,122 @@
+"""The rules across keys and the geometric admissibility of a case: the
+mesher's rules (meshing/admissibility.py) speak in the case file's keys, so
+a problem they find is the case's error; and what ties keys together (mesh
+sizes against the domain, slip fractures that meet, displacement conditions
+that conflict where their places meet, Lmax against the rosettes, injection
+with a pressure)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import wingcrack_kernels as _kernels  # geometry predicates (C++)
+from meshing import admissibility
+from wingcrack.case.bounds import MAX_ELEMENTS
+from wingcrack.case.records import BC, MeshOptions, Propagation
+from wingcrack.errors import CaseError
+from wingcrack.shortest_advance import length_problem
+
+def refuse(problem: admissibility.Problem | None) -> None:
+    """The mesher's rules speak in the case file's keys: a problem is the case's error."""
+    if problem is not None:
+        raise CaseError(problem.key, problem.message)
+
+
+def check_scale(size: float, offset: float, size_key: str, offset_key: str) -> None:
+    refuse(admissibility.scale(size, offset, size_key, offset_key))
+
+
+def check_polygon(pts: np.ndarray, key: str) -> None:
+    refuse(admissibility.polygon(pts, key))
+
+
+def check_mesh_against_domain(mesh: MeshOptions, domain) -> None:
+    """Sizes the mesher can honour in this domain: not too many triangles, a
+    rosette well above the geometric tolerance."""
+    cells = domain.area() / (math.sqrt(3) / 4 * mesh.size**2)
+    if cells > MAX_ELEMENTS:
+        raise CaseError("mesh.size", f"{mesh.size:g} m asks for about {cells:.2g} elements in this domain of "
+                                     f"{domain.area():.4g} m^2 (at most {MAX_ELEMENTS:.2g}): use a larger size")
+    refuse(admissibility.tip_size(mesh.tip_size, domain))
+
+
+def check_slip_junctions(fractures, domain) -> None:
+    """Two fractures with prescribed slip do not meet: at their junction the
+    node copies' jumps sum to zero around it, so the slip rows of both
+    fix more components than the copies have (the pair system is singular)."""
+    slip = [i for i, f in enumerate(fractures) if f.faces == "slip"]
+    if len(slip) < 2:
+        return
+    net = admissibility.joined(domain, [f.points for f in fractures])
+    for members in net.nodes.values():
+        met = sorted({f for f, _ in members if fractures[f].faces == "slip"})
+        if len(met) > 1:
+            f, v = members[0]
+            x = net.polylines[f][v]
+            raise CaseError(f"fractures[{met[1]}].faces", f'"slip" fractures[{met[1]}] meets "slip" '
+                            f"fractures[{met[0]}] at ({x[0]:.6g}, {x[1]:.6g}): two prescribed slips over-determine "
+                            "the faces' jumps at a junction; give one of them other faces")
+
+
+def _on_named_boundary(domain, name: str, p, tol: float) -> bool:
+    if domain.shape == "disc":
+        return bool(domain.on_boundary(np.asarray(p, dtype=float), tol))
+    v = domain.vertices()
+    i = domain.edge_names().index(name)
+    return _kernels.point_segment_distance(np.asarray(p, dtype=float), v[i], v[(i + 1) % len(v)])[0] <= tol
+
+
+def _meeting_place(a: BC, b: BC, domain, tol: float) -> str | None:
+    """Where the places of two conditions meet, as text, or None when apart:
+    two points, a point on a named boundary, one boundary twice, or two
+    boundaries sharing a corner."""
+    if a.at is not None and b.at is not None:
+        return "at the same place" if math.dist(a.at, b.at) <= tol else None
+    if a.at is not None or b.at is not None:
+        p, name = (a.at, b.on) if a.at is not None else (b.at, a.on)
+        return f"at ({p[0]:g}, {p[1]:g})" if _on_named_boundary(domain, name, p, tol) else None
+    if a.on == b.on:
+        return "at the same place"
+    if domain.shape == "disc":
+        return None
+    names, v = domain.edge_names(), domain.vertices()
+    i, j = names.index(a.on), names.index(b.on)
+    n = len(v)
+    shared = [k for k in ((i + 1) % n, i) if k in ((j + 1) % n, j)]  # edge k runs from vertex k to k+1
+    if not shared:
+        return None
+    x, y = v[shared[0]]
+    return f"at the corner ({x:g}, {y:g})"
+
+
+def check_bc_conflicts(bcs, domain, tol: float) -> None:
+    """Two displacement conditions prescribing one component differently at a
+    place they share: a point, a point on a boundary, a boundary's corner."""
+    seen: list[tuple[int, BC]] = []
+    for j, bc in enumerate(bcs):
+        if bc.kind != "displacement":
+            continue
+        for i, other in seen:
+            differ = [name for c, name in enumerate("xy")
+                      if bc.components[c] and other.components[c] and bc.value[c] != other.value[c]]
+            if not differ:
+                continue
+            where = _meeting_place(bc, other, domain, tol)
+            if where is not None:
+                raise CaseError(f"bc[{j}]", f"displacement {differ[0]} conflicts with bc[{i}] {where}")
+        seen.append((j, bc))
+
+
+def check_step_length(propagation: Propagation, mesh: MeshOptions) -> None:
+    """Lmax at least L_min: the growth law's rule (wingcrack/shortest_advance.py)."""
+    problem = length_problem(propagation.length, mesh.tip_size)
+    if problem is not None:
+        raise CaseError("propagation.length", problem)
+
+
+def check_pressure_load(propagation: Propagation, fractures) -> None:
+    """Injection (`load = "pressure"`) scales the fracture pressures: one must be above 0."""
+    if propagation.load == "pressure" and not any(f.pressure > 0 for f in fractures):
+        raise CaseError("propagation.load", '"pressure" scales the fracture pressures, but no fracture has a '
+                                            "pressure above 0 (give fractures[i].pressure)")

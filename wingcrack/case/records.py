@@ -1,0 +1,202 @@
+"""The parts of a case (material, fracture, tip, boundary condition, body
+force, in-situ stress, mesh sizes, growth control), each a frozen dataclass
+whose fields carry their Keys. Units are SI (m, Pa, N; a point force is N per
+metre of thickness); points are (x, y) float64."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from wingcrack.case.bounds import (FACES, LOADS, MAX_ELEMENTS, MAX_FRICTION, MAX_SECTORS, MAX_STRAIN,
+                                   MIN_TIP_FRACTION, PLANES, SIFS, SLIP_PROFILES)
+from wingcrack.case.keys import NON_NEGATIVE, POSITIVE, Limit, Range, Ref, key
+
+SMALL = "beyond it strains are not small and linear elasticity fails"
+
+
+@dataclass(frozen=True)
+class Material:
+    """Linear elastic isotropic material."""
+
+    E: float = key(unit="Pa", range=POSITIVE, doc="Young's modulus.",
+                   limit=Limit(1e3, 1e13, why="from soft gels, 1 kPa, to above diamond, 1.2e12 Pa"))
+    nu: float = key(range=Range(-1.0, 0.5, open=True), doc="Poisson's ratio.")
+    KIc: float = key(unit="Pa m^0.5", range=POSITIVE, doc="Fracture toughness. A tip grows when its K_eq reaches "
+                     "KIc.", limit=Limit(1.0, 1e9, why="from below the softest gels, ~10, to five times the toughest "
+                                                       "steels, ~2e8"))
+    plane: str = key("stress", choices=PLANES, doc="Plane stress or plane strain: E' = E, or E/(1-nu^2).")
+    thickness: float = key(1.0, unit="m", range=POSITIVE, doc="Checked and printed by `check`, but no result "
+                           "depends on it: loads and results are per metre of thickness.")
+    density: float = key(0.0, unit="kg/m^3", range=NON_NEGATIVE, doc="Used only with a non-zero `body.gravity` "
+                         "(with density 0 there is no body force).",
+                         limit=Limit(hi=1e5, why="osmium, the densest element, has 22,590 kg/m^3"))
+
+
+@dataclass(frozen=True, eq=False)
+class Fracture:
+    """A pre-existing fracture: a polyline `points` (n, 2), n >= 2, read-only."""
+
+    points: np.ndarray = key(unit="m", min_points=2, noun="a fracture", rule="the geometry checks below",
+                             doc="The polyline. Its direction d runs from point 0 to point n-1. The + face is on the "
+                                 "left of d, and the tip frames and the `end` numbers in `summary.json` follow it.")
+    faces: str = key("open", choices=FACES, doc="`open`: traction free, with no contact condition (the faces may "
+                     "interpenetrate). `frictionless`: non-penetration w + gap >= 0, no friction. `slip`: "
+                     "non-penetration, and the tangential jump [u].t is prescribed. `coulomb`: non-penetration and "
+                     "Coulomb friction, |t_t| <= `cohesion` + `friction` (-t_n) (see \"Coulomb faces\" below).")
+    slip: float = key(0.0, unit="m", only_with=("faces", "slip"), doc="Prescribed [u].t = u(+) - u(-) along d. "
+                      "The load factor scales it.", limit=Limit(hi=MAX_STRAIN, of="L", why=SMALL))
+    gap: float = key(0.0, unit="m", range=NON_NEGATIVE, doc="Initial normal gap g. It acts on `frictionless`, "
+                     "`slip` and `coulomb` faces. It is accepted on `open` faces, where it has no effect.",
+                     limit=Limit(hi=MAX_STRAIN, of="L", why=SMALL))
+    friction: float = key(0.0, range=NON_NEGATIVE, only_with=("faces", "coulomb"), required_with=("faces", "coulomb"),
+                          doc="Coulomb coefficient mu of the faces and of the wings the fracture grows. mu = 0 (with "
+                              "`cohesion` 0) gives the `frictionless` result.",
+                          limit=Limit(hi=MAX_FRICTION, why="measured coefficients lie below about 1.5; rock's, by "
+                                                            "Byerlee's rule, at 0.6-0.85"))
+    cohesion: float = key(0.0, unit="Pa", range=NON_NEGATIVE, only_with=("faces", "coulomb"),
+                          doc="Cohesion c of the Coulomb bound, on the faces and the wings: the shear traction closed "
+                              "faces carry without slipping at zero normal traction. The load factor does not scale "
+                              "it.",
+                          limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL))
+    pressure: float = key(0.0, unit="Pa", range=NON_NEGATIVE,
+                          doc="Fluid pressure p inside the fracture and the wings it grows. It pushes both faces "
+                              "apart on every kind of face: the total face traction is the contact traction - p n, "
+                              "and contact and friction act on the contact (effective) traction. Connected "
+                              "fractures share the highest pressure among them (`propagation.connect_pressure`). "
+                              "The load factor scales it with `load = \"scale\"` and `\"pressure\"` (see \"Fluid "
+                              "pressure\" below).",
+                          limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL))
+    grow: bool = key(True, doc="Whether this fracture's tips may grow wing cracks.")
+    slip_profile: str = key("uniform", choices=SLIP_PROFILES, only_with=("faces", "slip"), added=True,
+                            doc="`uniform`: the same slip everywhere, which acts as a dislocation at the tips, so K "
+                                "depends on `mesh.tip_size`. `elliptic`: slip·sqrt(1 - (2s/L - 1)^2) along the arc "
+                                "length s of a fracture of length L, which gives a mesh-independent KII.")
+
+    @property
+    def length(self) -> float:
+        """Arc length (m)."""
+        return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+
+
+@dataclass(frozen=True)
+class Tip:
+    """A fracture end strictly inside the domain: `end` 0 is point 0, 1 the last."""
+
+    fracture: int
+    end: int
+    point: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class BC:
+    """One boundary condition: one place and one condition.
+
+    Exactly one of `at` (a boundary point, which becomes a mesh node) and `on`
+    (a boundary name) is set. kind:
+      "force" (N/m, global x/y; `at` only),
+      "traction" (Pa, global x/y; `on` only),
+      "displacement" (m; `at` or `on`); `components` says which of x, y are
+      prescribed (displacement_x / displacement_y prescribe one; the value of a
+      free component is 0.0 and means nothing).
+    For force and traction `components` is (True, True). Every value is scaled
+    by the load factor. The file's keys are BC_KEYS.
+    """
+
+    kind: str
+    value: tuple[float, float]
+    at: tuple[float, float] | None = None
+    on: str | None = None
+    components: tuple[bool, bool] = (True, True)
+
+
+@dataclass(frozen=True)
+class Body:
+    """Body force; acts through material.density (with density 0 there is none)."""
+
+    gravity: tuple[float, float] = key((0.0, 0.0), unit="m/s^2", doc="Body force density·gravity (none when "
+                                       "`material.density` is 0). It is not scaled by the load factor.",
+                                       limit=Limit(hi=MAX_STRAIN, of="E / (density L)",
+                                                   why="the weight of the domain, density |g| L, below "
+                                                       f"{MAX_STRAIN:g} E"))
+
+
+_IN_SITU = ("Initial (in-situ) stress sigma0, uniform, compression < 0. It is not scaled by the load factor. The "
+            "total stress is sigma0 + C:eps(u), and u is measured from the in-situ state. Reported stresses and "
+            "SIFs are totals.")
+
+
+@dataclass(frozen=True)
+class Stress:
+    """Initial (in situ) stress in Pa, compression < 0. Not scaled."""
+
+    sxx: float = key(0.0, unit="Pa", doc=_IN_SITU, limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL))
+    syy: float = key(0.0, unit="Pa", doc="As `sxx`.", limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL))
+    sxy: float = key(0.0, unit="Pa", doc="As `sxx`.", limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL))
+
+    def tensor(self) -> np.ndarray:
+        """The 2x2 stress tensor (Pa)."""
+        return np.array([[self.sxx, self.sxy], [self.sxy, self.syy]])
+
+
+@dataclass(frozen=True)
+class MeshOptions:
+    """Mesh sizing."""
+
+    size: float = key(unit="m", range=POSITIVE, doc="Target element size away from the fractures.",
+                      limit=Limit(hi=1.0, of="L", why="an element no larger than the domain"),
+                      rule=f"at most about {MAX_ELEMENTS:,} triangles (area / (sqrt(3)/4 · size^2))")
+    tip_size: float = key(unit="m", range=POSITIVE, doc="Radius h of the structured crack-tip rosette. The "
+                          "quarter-point elements sit next to the tip.",
+                          rule=f"< `size`, < the shortest fracture segment, >= {MIN_TIP_FRACTION:g} L; its rosette "
+                               "must stay clear of the boundary and of other fractures")
+    adaptive: bool = key(True, doc="`run` only: each step's mesh is sized from the previous step's error estimate. "
+                         "With `false` the sizes are fixed, and `run` remeshes step after step only a circle around "
+                         "the growing fractures (its patch): outside it the mesh and its factorisation are reused.")
+    sectors: int = key(32, range=Range(8, MAX_SECTORS, note=" (32 recommended)"), added=True,
+                       doc="Triangles per tip rosette. Displacement correlation's KII error is 2.5 % at 8 sectors, "
+                           "0.7 % at 16 and 0.3 % at 32. Use fewer than 16 only for convergence studies.")
+
+
+@dataclass(frozen=True)
+class Propagation:
+    """Growth control (only `run` reads it)."""
+
+    length: float = key(Ref("mesh.tip_size"), unit="m", range=POSITIVE,
+                        rule="at least L_min = 0.4 `mesh.tip_size` (wingcrack/shortest_advance.length_problem)",
+                        doc="Lmax: the longest advance of any tip in one step. Under L_min no kinked tip could "
+                            "ever grow (a kinked tip never advances less than L_min), so `check` refuses it, naming "
+                            "the smallest length that works. Every length from L_min up works: a wing's rosette is "
+                            "then min(`tip_size`, 0.75 L) >= 0.3 `tip_size`, and a length under 0.75 `tip_size`, "
+                            "whose next step lands within the join distance (1.5 `tip_size`) of the wing's own "
+                            "kink, goes straight on there when the mesher has room for the rosette.",
+                        limit=Limit(hi=1.0, of="L", why="no step longer than the domain"))
+    steps: int = key(35, range=NON_NEGATIVE, doc="The most propagation steps. A run whose every tip joined "
+                     "another fracture or reached the boundary is `finished` earlier. With `0`, `run` "
+                     "does nothing and says so (`stopped: propagation.steps = 0 ...`; use `sif`).")
+    alpha: float = key(0.35, range=POSITIVE, doc="The growth-law exponent: L_i = Lmax (G_i / max G)^alpha over the "
+                       "tips with K_eq >= KIc (relative tolerance 1e-3). A tip whose L_i < 0.4·`mesh.tip_size` does "
+                       "not advance, unless it grows straight on.")
+    load: str = key("scale", choices=LOADS, doc="`scale`: one load factor multiplies every bc value, every "
+                    "fracture slip and every fracture pressure. It starts at 0, and each step it rises to the "
+                    "smallest factor at which the first tip reaches KIc, never below the previous step's. "
+                    "`pressure` (injection): the factor, found the same way, multiplies the fracture pressures "
+                    "only; bc values, slip, the in-situ stress and gravity stay at factor 1, and the critical "
+                    "factor times a fracture's `pressure` is its critical injection pressure. `fixed`: the factor "
+                    "is 1, and the run stops when no tip reaches KIc.",
+                    rule="`pressure` needs a fracture with `pressure` > 0")
+    max_load_factor: float = key(100.0, range=POSITIVE, added=True,
+                                 doc="With `load = \"scale\"` or `\"pressure\"`, the run stops (\"no tip reaches "
+                                     "KIc below the load factor limit\") if the critical factor would exceed this.",
+                                 limit=Limit(hi=1e9, why="a larger factor means loads in the wrong unit; the search "
+                                                         "doubles the factor, 30 solves up to 1e9"))
+    sif: str = key("correlation", choices=SIFS, added=True,
+                   doc="Which SIFs drive growth (the critical load, the kink angle theta, K_eq and G): displacement "
+                       "correlation (the paper's) or the interaction integral (at a tip where it has no room, "
+                       "correlation). Both are always reported. Use `\"interaction\"` for nearly incompressible "
+                       "plane strain (nu above about 0.495), where correlation locks; see the README.")
+    connect_pressure: bool = key(True, doc="Fractures joined through a T-junction, linked tip to tip or "
+                                 "crossing are hydraulically connected: after each step's growth every connected "
+                                 "group takes "
+                                 "the highest pressure among its fractures, from the next step on. `false`: each "
+                                 "fracture keeps its own `pressure`.")
