@@ -18,6 +18,11 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
   python3-nbclient python3-nbformat python3-ipykernel
 KERNEL_FILES := $(wildcard cpp_kernels/*/*.cpp cpp_kernels/include/wingcrack/*.hpp) CMakeLists.txt pyproject.toml
 STAMP := $(VENV)/.wingcrack-installed
+# The editable install maps each Python module to its file once: a module added, moved or
+# removed needs a new install. The list below changes only then (its file is rewritten only
+# when it differs), so an edit inside a module does not reinstall.
+MODULES := $(sort $(wildcard wingcrack/*.py wingcrack/*/*.py meshing/*.py procs/*.py))
+MODULE_LIST := $(VENV)/.wingcrack-modules
 # Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
 KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
@@ -36,7 +41,12 @@ apt:
 $(PY):
 	/usr/bin/python3 -m venv --system-site-packages $(VENV)
 
-$(STAMP): $(PY) $(KERNEL_FILES) requirements-dev.txt constraints.txt
+$(MODULE_LIST): FORCE | $(PY)
+	@echo "$(MODULES)" | cmp -s - $@ || echo "$(MODULES)" > $@
+
+FORCE:
+
+$(STAMP): $(PY) $(KERNEL_FILES) $(MODULE_LIST) requirements-dev.txt constraints.txt
 	$(PY) -m pip install -q -c constraints.txt -r requirements-dev.txt
 	$(PY) -m pip install -q --no-build-isolation --no-deps -c constraints.txt -e .
 	$(PY) -c "import numpy, dolfinx, wingcrack_kernels, wingcrack.case; assert numpy.__version__.startswith('1.24'), numpy.__version__"
