@@ -163,223 +163,293 @@ def _collector_skips_modules():
 
 
 def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen) -> RunResult:
-    from mpi4py import MPI
-
-    from ..io.summary import SummaryWriter
-
-    comm = MPI.COMM_WORLD
-    out = None if out is None else Path(out)   # made ready by api.run
-    fset = FractureSet.from_case(case)
-    prop = case.propagation
-    rule = growth.Rule.of(case)
-    lam = 0.0 if prop.load in SEARCHED else 1.0
-    records, status = [], "finished"
-    disc = None
-    shown = None   # the discretisation of the last recorded step, while it is not released
-    sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
-    history = None   # the converged slip of the faces (friction), carried to the next mesh
-    patch = None     # the circle remeshed every step (propagation.patch; fixed meshes only)
-    far = None       # the far field's factorisation outside it (fem.far_field), kept while it serves
-    first = 0
+    """Fig. 8, step after step, with the ends of a run: a stop (the status a
+    step returns), a collapse of the body (the end of its loading path), a
+    failure (every finished step kept), an interrupt (kept and resumable)."""
+    run = _Run(case, out, mesh_timeout, next_mesh)
     if resume:
-        if out is None:
+        run.resume()
+    run.begin(frozen)
+    steps = case.propagation.steps
+    status = NO_STEPS if not run.records and run.k >= steps else "finished"
+    for k in range(run.k, steps):
+        run.k = k
+        try:
+            stop = run.step(k)
+        except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
+            raise run.stopped(err)
+        except Collapse as err:   # the body cannot carry the load: the end of its loading path, not a failure
+            run.uncommitted(k)
+            status = f"stopped: step {k}: the body cannot carry the load: {err}"
+            break
+        except Exception as err:
+            raise run.failure(err)
+        if stop is not None:
+            status = stop
+            break
+        run.report(progress, k)
+    run.finish(status, finishing)
+    return run.result(status)
+
+
+class _Run:
+    """What a run carries from step to step: the fractures, the load factor,
+    the records, and what the next mesh and solve reuse (the sizes of the
+    error estimate, the converged slip, the patch and its far field)."""
+
+    def __init__(self, case, out, mesh_timeout, next_mesh):
+        from mpi4py import MPI
+
+        from ..io.summary import SummaryWriter
+
+        self.case, self.prop = case, case.propagation
+        self.out = None if out is None else Path(out)   # made ready by api.run
+        self.mesh_timeout, self.next_mesh = mesh_timeout, next_mesh
+        self.fset = FractureSet.from_case(case)
+        self.rule = growth.Rule.of(case)
+        self.lam = 0.0 if self.prop.load in SEARCHED else 1.0
+        self.records = []
+        self.disc = None
+        self.shown = None   # the discretisation of the last recorded step, while it is not released
+        self.sizes = None   # the error-estimate size field for the next mesh (mesh.adaptive)
+        self.history = None   # the converged slip of the faces (friction), carried to the next mesh
+        self.patch = None     # the circle remeshed every step (propagation.patch; fixed meshes only)
+        self.far = None       # the far field's factorisation outside it (fem.far_field), kept while it serves
+        self.k = 0            # the step under way (the first one to do, before the loop)
+        self.warnings = []    # about the whole run (from `finishing`)
+        self.writes = self.out is not None and MPI.COMM_WORLD.rank == 0
+        self.summary_file = SummaryWriter(self.out / "summary.json") if self.writes else None
+        self.checkpoints = checkpoint.Writer(self.out, case) if self.writes else None
+        self.last = None      # the record of the last committed step
+
+    def resume(self):
+        if self.out is None:
             raise ValueError("resume needs the output folder of the run")
-        ck = checkpoint.load(out, case)
-        fset, lam, sizes, first = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
-        history, patch = ck["history"], ck["patch"]
-        records = [StepRecord.from_dict(s) for s in ck["steps"]]
-    if first < prop.steps and fset.active_tips():   # its gmsh overlaps the imports of preload()
-        patch = next_patch(patch, case, fset)
-        next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout, patch=patch)
-        frozen.enter_context(_collector_skips_modules())   # a run of no step imports no DOLFINx
+        ck = checkpoint.load(self.out, self.case)
+        self.fset, self.lam, self.sizes, self.k = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
+        self.history, self.patch = ck["history"], ck["patch"]
+        self.records = [StepRecord.from_dict(s) for s in ck["steps"]]
 
-    done = fset.copy()   # the fractures after the last finished step
-    warnings = []        # about the whole run (from `finishing`)
+    def begin(self, frozen):
+        """The first step's mesh is begun before DOLFINx is imported: its gmsh
+        overlaps the imports of preload()."""
+        if self.k < self.prop.steps and self.fset.active_tips():
+            self.request_mesh()
+            frozen.enter_context(_collector_skips_modules())   # a run of no step imports no DOLFINx
+        self.done = self.fset.copy()   # the fractures after the last finished step
 
-    def summary_now(st) -> dict:
-        return step.summary(case, st, records, done.summary(), warnings).to_dict()
+    def request_mesh(self):
+        self.patch = next_patch(self.patch, self.case, self.fset)
+        self.next_mesh.request = step.start_mesh(self.case, self.fset.fractures, sizes=self.sizes,
+                                                 timeout=self.mesh_timeout, patch=self.patch)
 
-    writes = out is not None and comm.rank == 0
-    summary_file = SummaryWriter(out / "summary.json") if writes else None
-    checkpoints = checkpoint.Writer(out, case) if writes else None
+    def step(self, k):
+        """Step k: mesh, the critical load, solve, SIFs, growth, the next mesh
+        begun, the step committed. Returns the status the run stops with, or
+        None where the fractures grew."""
+        case, prop, fset = self.case, self.prop, self.fset
+        timer = step.Timer()
+        progress_now.step_started(k)
+        interrupt.check()
+        if not fset.active_tips():
+            return no_tip_left(self.records)
+        disc = self.discretise(timer)
+        interrupt.check()
+        grow = growth.may_grow(disc.cm, fset)
+        if not grow:
+            return no_tip_left(self.records)
+        solves = 1
+        if prop.load in SEARCHED:
+            progress_now.doing("the critical-load search")
+            homogeneous = _homogeneous(case, disc, fset)   # before the solves: they may accept a slip
+            crit = _critical_load(case, disc, fset, grow, self.lam, homogeneous)
+            if crit.load_factor is None:
+                return self.at_the_limit(k, disc, grow, timer, int(crit.solves) + 1)
+            held, self.lam, solves = self.lam, crit.load_factor, int(crit.solves)
+        progress_now.doing(f"the solve at load factor {self.lam:.6g}")
+        disc.solve(self.lam)
+        timer.lap("solve")
+        interrupt.check()
+        progress_now.doing("the stress intensity factors")
+        tips = disc.sifs(case, fset.polylines())
+        timer.lap("sif")
+        # the converged slip along the fractures as meshed (before they grow): the next mesh's reference
+        converged = _slip_history(disc, fset)
 
-    def write(st):
-        if writes:
-            summary_file.write(step.summary(case, st, records, done.summary(), warnings))
+        candidates = growth.candidates(tips, disc.cm, grow)
+        if prop.load == "fixed" and not growth.reached(candidates, self.rule).any():
+            # the solved step is a result too: recorded with its files, no growth
+            self.record(self.finished(k, self.lam, disc, tips, timer, solves=1), disc)
+            return "stopped: no tip reaches KIc under the fixed load"
+        progress_now.doing("growth, the step's files and the next mesh")
+        grown = growth.grow(fset, candidates, len(tips), self.rule, case.domain)
+        timer.lap("growth")
+        interrupt.check()
+        if not grown.grew:
+            # nothing moved: the next step would be this one again. Recorded (not
+            # checkpointed: a resumed run solves it again and stops the same way)
+            self.record(self.finished(k, self.lam, disc, tips, timer, solves=solves), disc)
+            return f"stopped: no tip can grow ({grown.why_none()})"
+        if case.mesh.adaptive:
+            from ..adaptivity import next_sizes   # DOLFINx's: imported by preload() before the first step
 
-    def write_last(st) -> str:
+            self.sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
+            timer.lap("estimate")
+        if k + 1 < prop.steps and fset.active_tips():
+            # step k+1's mesh is made while step k is written; it fails (if it does) as step k+1
+            self.request_mesh()
+            timer.lap("mesh")
+        record = self.finished(k, self.lam, disc, tips, timer, solves=solves,
+                               states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
+        if prop.load in SEARCHED:
+            record.critical_load_factor = _own_critical(case, tips, grow, self.lam, held, homogeneous)
+        self.commit(k, record, disc, converged)
+        return None
+
+    def discretise(self, timer):
+        """This step's discretisation, the last one's factors released first."""
+        _release(self.disc)   # the previous step's factors and forms
+        self.disc = self.shown = None
+        disc = self.disc = step.discretise(self.case, self.fset.fractures, timer, sizes=self.sizes,
+                                           timeout=self.mesh_timeout, history=self.history,
+                                           mesh=self.next_mesh.take(), patch=self.patch, far=self.far)
+        if disc.far is not self.far and self.far is not None:
+            self.far.destroy()   # the patch moved on: its far field is another
+        self.far = disc.far
+        return disc
+
+    def at_the_limit(self, k, disc, grow, timer, solves) -> str:
+        """No tip reaches KIc below the load factor limit. The step solved at
+        the limit is a result too (as under a fixed load): the user sees how
+        far from KIc the tips stayed, in its record and its files."""
+        limit = self.prop.max_load_factor
+        progress_now.doing(f"the solve at the load factor limit {limit:.6g}")
+        disc.solve(limit)
+        timer.lap("solve")
+        tips = disc.sifs(self.case, self.fset.polylines())
+        timer.lap("sif")
+        self.record(self.finished(k, limit, disc, tips, timer, solves=solves), disc)
+        ratio = max(tips[i].K_eq for i in grow) / self.case.material.KIc
+        # below 1e-9 KIc a K_eq is the round-off of SIFs that vanish (faces stuck or closed)
+        said = f"{ratio:.3g}" if ratio >= ROUND_OFF_K else "0"
+        return f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the " \
+            f"largest K_eq is {said} KIc)" + ("" if _scaled_load(self.case) else NOTHING_SCALES)
+
+    def finished(self, k, lam, disc, tips, timer, **more):
+        """Step k's record, its files written."""
+        return step.finish(self.out, k, lam, disc, tips, timer, KIc=self.case.material.KIc, **more)
+
+    def record(self, record, disc):
+        self.records.append(record)
+        self.shown = disc
+
+    def commit(self, k, record, disc, converged):
+        """Step k committed whole: its record, the fractures grown, summary.json
+        and the checkpoint agree (an interrupt waits until they do)."""
+        with interrupt.deferred():
+            self.record(record, disc)
+            if self.prop.connect_pressure:   # the next step meshes and loads with the connected pressures
+                self.fset.connect_pressures()
+            self.done = self.fset.copy()
+            self.history = converged
+            self.last = record
+
+            def save():
+                if self.writes:
+                    self.write("running")
+                    self.checkpoints.save(k, self.fset, self.lam, self.records, self.sizes, self.history,
+                                          self.patch)
+
+            on_root(save)   # a file rank 0 cannot write fails the step on every rank
+
+    def uncommitted(self, k):
+        """Step k did not finish: a record it appended goes (its commit failed)."""
+        if self.records and self.records[-1].step == k:
+            self.records.pop()
+
+    def report(self, progress, k):
+        """The caller's code, after step k is committed: its own exception goes
+        up unchanged (not a failure of the computation, and step k stays in
+        summary.json and the checkpoint)."""
+        if progress is None:
+            return
+        try:
+            progress(k, self.last.to_dict())
+        except KeyboardInterrupt as err:
+            raise self.stopped(err)
+
+    def summary_now(self, st) -> dict:
+        return step.summary(self.case, st, self.records, self.done.summary(), self.warnings).to_dict()
+
+    def write(self, st):
+        if self.writes:
+            self.summary_file.write(step.summary(self.case, st, self.records, self.done.summary(), self.warnings))
+
+    def write_last(self, st) -> str:
         """Write the run's last status `st`: "", or what the news of the run's
         end adds when summary.json cannot be written (it says "running")."""
         try:
-            write(st)
+            self.write(st)
         except WriteError as err:
             return f" (summary.json not updated: {err.reason})"
         return ""
 
-    def failed(err: Exception) -> ComputationError:
+    def stopped(self, err: KeyboardInterrupt) -> KeyboardInterrupt:
+        """The interrupt, its stop written (whether or not summary.json can say it)."""
+        self.write_last(interrupt.stop_status(err))
+        return err
+
+    def failure(self, err: Exception) -> BaseException:
+        """What ends the run where step k raised `err`: the stop that caused it
+        (an import it interrupted), err itself where it is not a failure of
+        the computation, else a ComputationError with the status written."""
+        stop = interrupt.cause(err)
+        if stop is not None:
+            self.write_last(interrupt.stop_status(stop))
+            stop.__cause__, stop.__suppress_context__ = None, True
+            return stop
+        if not isinstance(err, step.FAILURES):
+            return err
+        self.uncommitted(self.k)   # step k failed in its commit: it did not finish
+        return self.failed(err)
+
+    def failed(self, err: Exception) -> ComputationError:
         """The error that ends the run failing with `err` at step k, its
         status written where it can be. Raised `from` a WriteError, which
         tells api.run that the folder takes no pictures either."""
-        status = step.failure(k, err)
-        note = write_last(status)
-        if isinstance(err, WriteError) and err.path == str(out / "summary.json"):
+        status = step.failure(self.k, err)
+        note = self.write_last(status)
+        if isinstance(err, WriteError) and err.path == str(self.out / "summary.json"):
             note = ""   # the status says it already
-        return ComputationError(status + note)
+        failure = ComputationError(status + note)
+        failure.__cause__ = err if isinstance(err, WriteError) else None
+        failure.__suppress_context__ = True
+        return failure
 
-    if not records and first >= prop.steps:
-        status = NO_STEPS
-    k = first
-    for k in range(first, prop.steps):
-        timer = step.Timer()
-        progress_now.step_started(k)
-        try:
-            interrupt.check()
-            if not fset.active_tips():
-                status = no_tip_left(records)
-                break
-            _release(disc)   # the previous step's factors and forms
-            disc = shown = None
-            disc = step.discretise(case, fset.fractures, timer, sizes=sizes, timeout=mesh_timeout, history=history,
-                                   mesh=next_mesh.take(), patch=patch, far=far)
-            if disc.far is not far and far is not None:
-                far.destroy()   # the patch moved on: its far field is another
-            far = disc.far
-            interrupt.check()
-            grow = growth.may_grow(disc.cm, fset)
-            if not grow:
-                status = no_tip_left(records)
-                break
-            if prop.load in SEARCHED:
-                progress_now.doing("the critical-load search")
-                homogeneous = _homogeneous(case, disc, fset)   # before the solves: they may accept a slip
-                crit = _critical_load(case, disc, fset, grow, lam, homogeneous)
-                if crit.load_factor is None:
-                    # the step solved at the limit is a result too (as under a fixed load): the user sees
-                    # how far from KIc the tips stayed, in its record and its files
-                    limit = prop.max_load_factor
-                    progress_now.doing(f"the solve at the load factor limit {limit:.6g}")
-                    disc.solve(limit)
-                    timer.lap("solve")
-                    tips = disc.sifs(case, fset.polylines())
-                    timer.lap("sif")
-                    records.append(step.finish(out, k, limit, disc, tips, timer, solves=int(crit.solves) + 1,
-                                               KIc=case.material.KIc))
-                    shown = disc
-                    ratio = max(tips[i].K_eq for i in grow) / case.material.KIc
-                    # below 1e-9 KIc a K_eq is the round-off of SIFs that vanish (faces stuck or closed)
-                    said = f"{ratio:.3g}" if ratio >= ROUND_OFF_K else "0"
-                    status = f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the " \
-                        f"largest K_eq is {said} KIc)" + ("" if _scaled_load(case) else NOTHING_SCALES)
-                    break
-                held, lam, solves = lam, crit.load_factor, int(crit.solves)
-            else:
-                solves = 1
-            progress_now.doing(f"the solve at load factor {lam:.6g}")
-            disc.solve(lam)
-            timer.lap("solve")
-            interrupt.check()
-            progress_now.doing("the stress intensity factors")
-            tips = disc.sifs(case, fset.polylines())
-            timer.lap("sif")
-            # the converged slip along the fractures as meshed (before they grow): the next mesh's reference
-            converged = _slip_history(disc, fset)
-
-            candidates = growth.candidates(tips, disc.cm, grow)
-            if prop.load == "fixed" and not growth.reached(candidates, rule).any():
-                # the solved step is a result too: recorded with its files, no growth
-                status = "stopped: no tip reaches KIc under the fixed load"
-                records.append(step.finish(out, k, lam, disc, tips, timer, solves=1, KIc=case.material.KIc))
-                shown = disc
-                break
-            progress_now.doing("growth, the step's files and the next mesh")
-            grown = growth.grow(fset, candidates, len(tips), rule, case.domain)
-            timer.lap("growth")
-            interrupt.check()
-            if not grown.grew:
-                # nothing moved: the next step would be this one again. Recorded (not
-                # checkpointed: a resumed run solves it again and stops the same way)
-                status = f"stopped: no tip can grow ({grown.why_none()})"
-                records.append(step.finish(out, k, lam, disc, tips, timer, solves=solves, KIc=case.material.KIc))
-                shown = disc
-                break
-            if case.mesh.adaptive:
-                from ..adaptivity import next_sizes   # DOLFINx's: imported by preload() before the first step
-
-                sizes = next_sizes(disc.problem, case.mesh.tip_size, case.mesh.size)
-                timer.lap("estimate")
-            if k + 1 < prop.steps and fset.active_tips():
-                # step k+1's mesh is made while step k is written; it fails (if it does) as step k+1
-                patch = next_patch(patch, case, fset)
-                next_mesh.request = step.start_mesh(case, fset.fractures, sizes=sizes, timeout=mesh_timeout,
-                                                    patch=patch)
-                timer.lap("mesh")
-            record = step.finish(out, k, lam, disc, tips, timer, solves=solves,
-                                   states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips],
-                                   KIc=case.material.KIc)
-            if prop.load in SEARCHED:
-                record.critical_load_factor = _own_critical(case, tips, grow, lam, held, homogeneous)
-            with interrupt.deferred():   # the step is committed whole: summary and checkpoint agree
-                records.append(record)
-                shown = disc
-                if prop.connect_pressure:   # the next step meshes and loads with the connected pressures
-                    fset.connect_pressures()
-                done = fset.copy()
-                history = converged
-
-                def commit():
-                    if writes:
-                        write("running")
-                        checkpoints.save(k, fset, lam, records, sizes, history, patch)
-
-                on_root(commit)   # a file rank 0 cannot write fails the step on every rank
-        except KeyboardInterrupt as err:   # Ctrl-C or SIGTERM
-            status = interrupt.stop_status(err)
-            write_last(status)   # the stop is the news, whether or not summary.json can say it
-            raise
-        except Collapse as err:   # the body cannot carry the load: the end of its loading path, not a failure
-            status = f"stopped: step {k}: the body cannot carry the load: {err}"
-            if records and records[-1].step == k:
-                records.pop()
-            break
-        except Exception as err:
-            stop = interrupt.cause(err)
-            if stop is not None:   # an error that a stop caused (an import it interrupted): the stop
-                status = interrupt.stop_status(stop)
-                write_last(status)
-                raise stop from None
-            if not isinstance(err, step.FAILURES):
-                raise
-            if records and records[-1].step == k:   # step k failed in its commit: it did not finish
-                records.pop()
-            raise failed(err) from (err if isinstance(err, WriteError) else None)
-        if progress is not None:
-            # the caller's code, after step k is committed: its own exception goes up unchanged (not a
-            # failure of the computation, and step k stays in summary.json and the checkpoint)
+    def finish(self, status, finishing):
+        """The run's warnings (api.run draws the pictures in `finishing`) and
+        its final status written."""
+        if finishing is not None:
             try:
-                progress(k, record.to_dict())
+                self.warnings.extend(finishing(self.summary_now(status)))
             except KeyboardInterrupt as err:
-                status = interrupt.stop_status(err)
-                write_last(status)
-                raise
-    if finishing is not None:
+                raise self.stopped(err)   # every step is kept; `wingcrack plot OUT` draws the pictures
+            except WriteError as err:   # a picture: every step is kept, but the folder takes no more files
+                raise self.failed(err) from err
         try:
-            warnings.extend(finishing(summary_now(status)))
-        except KeyboardInterrupt as err:
-            status = interrupt.stop_status(err)   # every step is kept; `wingcrack plot OUT` draws the pictures
-            write_last(status)
-            raise
-        except WriteError as err:   # a picture: every step is kept, but the folder takes no more files
-            raise failed(err) from err
-    try:
-        write(status)
-    except WriteError as err:
-        raise failed(err) from err
-    result = RunResult(status, [r.to_dict() for r in records], fset, summary_now(status), out,
-                       mesh=None if shown is None else shown.cm, problem=None if shown is None else shown.problem,
-                       contact=None if shown is None else shown.contact)
-    if out is not None:
-        result.files = step.files_of(out, len(records))
-    return result
+            self.write(status)
+        except WriteError as err:
+            raise self.failed(err) from err
+
+    def result(self, status) -> RunResult:
+        shown = self.shown
+        result = RunResult(status, [r.to_dict() for r in self.records], self.fset, self.summary_now(status), self.out,
+                           mesh=None if shown is None else shown.cm,
+                           problem=None if shown is None else shown.problem,
+                           contact=None if shown is None else shown.contact)
+        if self.out is not None:
+            result.files = step.files_of(self.out, len(self.records))
+        return result
 
 
 def _slip_history(disc, fset):
