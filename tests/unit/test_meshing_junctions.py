@@ -154,7 +154,9 @@ def test_a_hanging_gmsh_is_retried_once_then_fails(monkeypatch):
     monkeypatch.setattr(mesher, "gmsh_session", stuck_frontal)
     t0 = time.perf_counter()
     mesh = crack_mesh(domain, fr, [], size=0.1, tip_size=H, timeout=2.0)
-    assert mesh.stats["gmsh_retried"] is True and time.perf_counter() - t0 < 10.0
+    # killed at the limit (2 s), not left to its 60 s: the retry's whole call took 2.5 s when measured,
+    # and 45 s is past 10x that and still short of the stuck attempt's sleep
+    assert mesh.stats["gmsh_retried"] is True and time.perf_counter() - t0 < 45.0
     assert len(mesh.tips) == len(plain.tips) and len(mesh.pairs) > 0
 
     monkeypatch.setattr(mesher, "gmsh_session", stuck)
