@@ -16,21 +16,22 @@ ROOT = Path(__file__).resolve().parents[1]
 WINGCRACK = Path(sys.executable).with_name("wingcrack")
 
 
-def run_case(name: str, out: Path, case: Path | None = None, wingcrack: Path = WINGCRACK) -> dict:
+def run_case(name: str, out: Path, case: Path | None = None, wingcrack: Path = WINGCRACK, plots: bool = False) -> dict:
     """`wingcrack run` of the case `name` (cases/<name>.toml, or the file
     `case`) into `out` as its own process, with the `wingcrack` program of
     this checkout (or another's: benchmarks/cases.py --base): exit code,
     process wall (s, start-up included), its CPU seconds (user + system, its
     gmsh worker's included: less moved by a shared machine than the wall),
     its peak RSS (MiB), the summary (empty when none was written), the tail
-    of stderr, out."""
+    of stderr, out. plots: with the pictures (benchmarks/pictures_cost.py)."""
     case = case or ROOT / "cases" / f"{name}.toml"
     out.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     err = out.with_suffix(".stderr")
     with open(err, "w") as stderr:
-        # --no-plots: the wall time is the computation's (the pictures add ~0.2 s a step)
-        proc = subprocess.Popen([str(wingcrack), "run", str(case), "-o", str(out), "--quiet", "--no-plots"],
+        # --no-plots by default: the wall time is the computation's (pictures_cost.py weighs the pictures)
+        proc = subprocess.Popen([str(wingcrack), "run", str(case), "-o", str(out), "--quiet"]
+                                + ([] if plots else ["--no-plots"]),
                                 stdout=subprocess.DEVNULL, stderr=stderr)
         _, status, usage = os.wait4(proc.pid, 0)   # this child's own peak memory
     wall = time.perf_counter() - t0

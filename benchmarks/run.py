@@ -11,6 +11,8 @@ Prints, each section marked:
   changes in paper 4.3 (pressure_cases.py), read from those same runs;
 - each Coulomb case's friction solves against the frictionless solve of the
   same pair system, and its worst step against its median (friction_solve.py);
+- what the pictures cost: the disc run with pictures over --no-plots, paired
+  (pictures_cost.py);
 - issue 16's targets 1-3 (targets.py; 3, the 1.10M DOF step, with --large);
 - the 30k-300k DOF scaling on 1 and 2 MPI ranks (scaling.py), with the 1M
   point of target 3 when --large ran it.
@@ -171,6 +173,7 @@ def main(argv=None):
     from friction_cases import main as friction_table
     from friction_solve import coulomb_cases, main as friction_solve
     from mesh_disc import main as bench_mesh
+    from pictures_cost import main as pictures_cost
     from pressure_cases import main as pressure_table
     from ratios import load_baseline
     from scaling import TARGETS, main as bench_scaling
@@ -200,6 +203,8 @@ def main(argv=None):
         if chosen:
             section("the friction solve against the frictionless one, and the worst step, per Coulomb case")
             friction_solve(["--cases"] + chosen)
+        section("what the pictures cost: the 45-degree disc, 34 steps, with pictures / --no-plots, paired")
+        pictures_cost(["--repeat", str(args.repeat)])
         section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
         print(baseline.get("about", "?"))
         tdir = out / "targets"

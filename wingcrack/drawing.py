@@ -1,12 +1,12 @@
 """The drawing process: the pictures of a result drawn in a long-lived
-worker (a meshing.worker.Channel of its own, named "drawing"), part of the
-api layer. api.sif and api.run start it at their top (rank 0 with an output
+worker (a meshing.worker.Channel of its own, named "drawing"), on the io side
+(it calls io.plotting, never api). api.sif and api.run start it at their top (rank 0 with an output
 folder), so that its interpreter start-up and matplotlib's import run while
 the case computes on the other core; at the end the pictures are drawn
 there and the caller waits for them, so the result has its pictures when
 the command returns, as when they were drawn in-process.
 
-The worker runs api's own drawing functions (the same code as `wingcrack
+The worker runs io.plotting's drawing functions (the same code as `wingcrack
 plot`), so the files and the warnings of a picture that cannot be drawn
 are the same, and a picture the folder does not take fails as there (its
 WriteError raised here, the picture not drawn again). A drawing process that is not running (never started, or
@@ -42,8 +42,7 @@ def preload() -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from . import api  # noqa: F401
-    from .io import animation, history, pictures  # noqa: F401
+    from .io import animation, history, pictures, plotting  # noqa: F401
 
     fig, ax = plt.subplots(figsize=(1, 1))
     ax.set_title("wingcrack")
@@ -70,9 +69,9 @@ class NotDrawn(Exception):
 
 
 def pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:
-    """({name: path}, warnings) of api._draw_pictures(out, summary, history,
+    """({name: path}, warnings) of plotting.draw_pictures(out, summary, history,
     animation), drawn in the drawing process when it runs, else here."""
-    from . import api
+    from .io import plotting
 
     args = (out, summary, history, animation)
     if _running():
@@ -84,27 +83,27 @@ def pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, 
             return value
         if kind == "unwritten":   # the folder refused a picture: drawn here it would refuse it again
             raise value
-    return api._draw_pictures(*args)
+    return plotting.draw_pictures(*args)
 
 
 def _pictures_answer(out, summary: dict, history: bool, animation: bool) -> tuple:
-    """In the worker: ("ok", api._draw_pictures(...)) or ("unwritten", the
+    """In the worker: ("ok", plotting.draw_pictures(...)) or ("unwritten", the
     WriteError of a picture the folder did not take), which the caller
     raises as it is (the worker's other errors reach it as RuntimeError)."""
-    from . import api
+    from .io import plotting
     from .errors import WriteError
 
     try:
-        return "ok", api._draw_pictures(out, summary, history, animation)
+        return "ok", plotting.draw_pictures(out, summary, history, animation)
     except WriteError as err:
         return "unwritten", err
 
 
 def plot(out, history: bool, animation: bool) -> dict:
-    """api.plot(out, history, animation) without `failed` (the first picture
+    """io.plotting.plot(out, history, animation) without `failed` (the first picture
     that cannot be drawn raises: NotDrawn with its message from the drawing
     process), in the drawing process when it runs, else here."""
-    from . import api
+    from .io import plotting
 
     if _running():
         try:
@@ -115,14 +114,14 @@ def plot(out, history: bool, animation: bool) -> dict:
             return value
         if kind == "failed":
             raise NotDrawn(value)
-    return api.plot(out, history=history, animation=animation)
+    return plotting.plot(out, history=history, animation=animation)
 
 
 def _plot_answer(out, history: bool, animation: bool) -> tuple:
     """In the worker: ("ok", files) or ("failed", the exception's message)."""
-    from . import api
+    from .io import plotting
 
     try:
-        return "ok", api.plot(out, history=history, animation=animation)
+        return "ok", plotting.plot(out, history=history, animation=animation)
     except Exception as err:  # noqa: BLE001 - the caller words it
         return "failed", str(err)

@@ -1,7 +1,7 @@
 """The drawing process (wingcrack/drawing.py): `sif` and `run` draw their
 pictures in a long-lived worker started at their top, and return with them.
 
-References: the same pictures drawn in this process (api._draw_pictures, the
+References: the same pictures drawn in this process (plotting.draw_pictures, the
 code `wingcrack plot` runs) from a copy of the result, compared pixel for
 pixel (Agg is deterministic: the same figure gives the same pixels, so the
 tolerance is none); the warnings of a picture that cannot be drawn in this
@@ -20,6 +20,7 @@ import pytest
 import wingcrack
 from builders import square_plate_with_cracks
 from wingcrack import api, drawing
+from wingcrack.io import plotting
 
 
 def plate(steps=2):
@@ -70,7 +71,7 @@ def redrawn_here(out, tmp_path, history, animation):
         (here / name).unlink(missing_ok=True)
     summary = json.loads((out / "summary.json").read_text())
     summary.pop("warnings", None)
-    files, warnings = api._draw_pictures(here, summary, history, animation)
+    files, warnings = plotting.draw_pictures(here, summary, history, animation)
     return here, files, warnings
 
 
@@ -125,7 +126,7 @@ def test_a_picture_that_fails_in_the_worker_warns_as_here(tmp_path, monkeypatch,
     assert (out / "history.png").is_file() and "picture" not in r.files
     summary = dict(saved)
     summary.pop("warnings")
-    _, here = api._draw_pictures(out, summary, True, True)
+    _, here = plotting.draw_pictures(out, summary, True, True)
     assert here == saved["warnings"]
 
 
@@ -141,9 +142,9 @@ def test_a_picture_the_folder_refuses_in_the_worker_fails_the_run_without_drawin
         return real(out, summary, history, animation)
 
     here = []   # the pictures drawn in this process (the worker's api is its own)
-    plot_here = api.plot
+    plot_here = plotting.plot
     monkeypatch.setattr(drawing, "pictures", blocked)
-    monkeypatch.setattr(api, "plot", lambda *args, **kwargs: here.append(args) or plot_here(*args, **kwargs))
+    monkeypatch.setattr(plotting, "plot", lambda *args, **kwargs: here.append(args) or plot_here(*args, **kwargs))
     out = tmp_path / "run"
     with pytest.raises(wingcrack.ComputationError) as err:
         wingcrack.run(plate(1), out=out)
