@@ -5,14 +5,14 @@ Ctrl-C or SIGTERM at any moment of the command stops it with one line and
 exit status 130 or 143, never a traceback, including while it imports its
 modules: wingcrack.cli brings numpy, and a signal during an import is
 raised inside it (numpy's and DOLFINx's extension modules then raise an
-ImportError instead: propagation.interrupt.cause). So the handlers are
+ImportError instead: interrupt.cause). So the handlers are
 installed here first, with only the interrupt module imported (a few
 milliseconds after Python's own start-up), and the CLI is imported inside
 them.
 """
 import sys
 
-from wingcrack.propagation import interrupt
+from wingcrack import interrupt
 
 
 def main(argv=None) -> int:

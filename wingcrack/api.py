@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import drawing, step
-from .propagation import interrupt
+from . import interrupt
 from .results import LastSolve, dataframe, tip_rows
 
 

@@ -22,7 +22,7 @@ from wingcrack.version import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
 from wingcrack.parallel import world_rank
 from wingcrack.progress import ProgressBar
-from wingcrack.propagation import interrupt
+from wingcrack import interrupt
 
 PROG = "wingcrack"
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2

@@ -309,6 +309,15 @@ def start_mesh(case, fractures, sizes=None, timeout: float | None = MESH_TIMEOUT
     return MeshRequest(case, fractures, sizes, timeout, patch)
 
 
+def preload() -> None:
+    """Import the modules that a step solves with (DOLFINx, the FE layer)
+    now, so that a caller can freeze them for the run (gc.freeze) before the
+    first step; the propagation loop reaches the FE layer only through here."""
+    from .fem import preload as fem_preload
+
+    fem_preload()
+
+
 def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
     """Start the meshing worker (rank 0, when meshing goes to it: a time
     limit), so that its start-up overlaps the caller's (DOLFINx's import,

@@ -316,7 +316,7 @@ def test_an_empty_output_folder_name_exits_2(fake_api, tmp_path, monkeypatch, ca
 def test_sigterm_and_ctrl_c_exit_128_plus_the_signal(fake_api, tmp_path, capsys):
     """A command stopped by SIGTERM (interrupt.Terminated) exits 143, by
     Ctrl-C 130: the codes a shell reports for a process ended by them."""
-    from wingcrack.propagation.interrupt import Terminated
+    from wingcrack.interrupt import Terminated
 
     fake_api.behaviour = Terminated()
     assert cli.main(["run", str(CASES[0]), "-o", str(tmp_path / "a")]) == 143

@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 
 from wingcrack.io.outdir import leftovers, result_files
-from wingcrack.propagation import interrupt
+from wingcrack import interrupt
 
 ROOT = Path(__file__).resolve().parents[2]
 CASE = ROOT / "cases" / "brazilian_disc_45.toml"

@@ -1,4 +1,4 @@
-"""Ctrl-C is never lost (propagation/interrupt.py). Reference: Python's own
+"""Ctrl-C is never lost (wingcrack/interrupt.py). Reference: Python's own
 behaviour - a KeyboardInterrupt raised inside a finalizer is printed as
 "Exception ignored" and dropped; CI once saw a run go on past Ctrl-C that
 way. Here the signal is sent from inside a finalizer."""
@@ -8,7 +8,7 @@ import signal
 
 import pytest
 
-from wingcrack.propagation import interrupt
+from wingcrack import interrupt
 
 
 class _Finalizer:

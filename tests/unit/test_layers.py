@@ -133,3 +133,80 @@ def test_a_missing_kernel_module_is_named_with_its_remedy():
     assert proc.returncode == 1, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "wingcrack_kernels" in lines[0] and "make setup" in lines[0], proc.stderr
+
+
+# The target layering (tests/whiteboard.json, a copy of the design's board):
+# parts are files or folders, "never" pairs are imports that must not exist.
+# A file belongs to the part that names it most precisely (meshing/domain.py
+# is geometry, not meshing). Nevers still broken on this branch, each to be
+# removed from here when its import is gone:
+NEVER_NOT_YET = {
+    ("propagation", "meshing"),   # growth.py -> network.py, patch.py -> meshing/patch.py
+    ("geometry", "meshing"),      # admissibility.py -> network.py
+    ("case", "propagation"),      # case.py -> propagation/growth_law.py
+    ("io", "api"),                # drawing.py -> api._draw_pictures
+}
+
+
+def _part_of(rel: str, parts: dict) -> str | None:
+    best, length = None, -1
+    for name, part in parts.items():
+        for entry in part["is"]:
+            hit = rel == entry or (entry.endswith("/") and rel.startswith(entry))
+            if hit and len(entry) > length:
+                best, length = name, len(entry)
+    return best
+
+
+def _module_file(module: str) -> str | None:
+    base = ROOT / Path(*module.split("."))
+    for cand in (base.with_suffix(".py"), base / "__init__.py"):
+        if cand.is_file():
+            return cand.relative_to(ROOT).as_posix()
+    return None
+
+
+def _imported_files(path: Path) -> set[str]:
+    """The repository files that `path` imports, at any depth of its code
+    (imports inside functions count), relative imports resolved."""
+    rel = path.relative_to(ROOT).with_suffix("")
+    package = list(rel.parts[:-1]) if rel.name != "__init__" else list(rel.parts[:-1])
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                anchor = package[:len(package) - node.level + 1]
+                mod = ".".join(anchor + ([node.module] if node.module else []))
+            else:
+                mod = node.module or ""
+            # `from pkg import sub` imports pkg/sub.py; `from pkg import name`, pkg itself
+            names = [f"{mod}.{a.name}" if _module_file(f"{mod}.{a.name}") else mod
+                     for a in node.names]
+        for name in names:
+            f = _module_file(name)
+            if f is not None and f != path.relative_to(ROOT).as_posix():
+                out.add(f)
+    return out
+
+
+def test_no_import_the_board_forbids():
+    import json
+
+    board = json.loads((ROOT / "tests/whiteboard.json").read_text())
+    parts = board["parts"]
+    files = [p for d in ("wingcrack", "meshing", "procs") if (ROOT / d).is_dir()
+             for p in (ROOT / d).rglob("*.py")]
+    edges = {p.relative_to(ROOT).as_posix(): _imported_files(p) for p in files}
+    assert "wingcrack/step.py" in edges["wingcrack/propagation/loop.py"]   # the check sees relative imports
+    bad = {}
+    for src, dst, *why in board["never"]:
+        if (src, dst) in NEVER_NOT_YET:
+            continue
+        for a, targets in edges.items():
+            for b in targets:
+                if _part_of(a, parts) == src and _part_of(b, parts) == dst:
+                    bad.setdefault(f"{src} -> {dst}", []).append(f"{a} -> {b}")
+    assert not bad, bad

@@ -58,7 +58,7 @@ def _jit(comm, obj, **kwargs):
     wait for that module (FFCx's timeout, 10 s) and fail with "JIT
     compilation timed out". A stop waits for one compilation at most (a
     module not yet in the cache; a few seconds)."""
-    from ..propagation import interrupt
+    from .. import interrupt
 
     with interrupt.deferred():
         return jit.ffcx_jit(comm, obj, **kwargs)

@@ -36,7 +36,8 @@ from ..errors import Collapse, ComputationError, WriteError
 from ..parallel import on_root
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from .. import progress as progress_now
-from . import checkpoint, growth, interrupt
+from .. import interrupt
+from . import checkpoint, growth
 from .critical_load import critical_load_factor, scales_with_load
 from .fracture_set import FractureSet
 from .patch import next_patch
@@ -152,9 +153,7 @@ def _collector_skips_modules():
     never collected) for the run."""
     import gc
 
-    from ..fem import preload
-
-    preload()
+    step.preload()
     gc.freeze()
     try:
         yield
