@@ -143,8 +143,6 @@ def test_a_missing_kernel_module_is_named_with_its_remedy():
 NEVER_NOT_YET = {
     ("propagation", "meshing"),   # growth.py -> network.py, patch.py -> meshing/patch.py
     ("geometry", "meshing"),      # admissibility.py -> network.py
-    ("case", "propagation"),      # case.py -> propagation/growth_law.py
-    ("io", "api"),                # drawing.py -> api._draw_pictures
 }
 
 

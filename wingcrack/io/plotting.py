@@ -7,36 +7,30 @@ both call it, so a picture drawn either way is the same file with the
 same warnings."""
 from __future__ import annotations
 
-from pathlib import Path
-
-
-def _cause(err):
-    from ..propagation import interrupt
-
-    return interrupt.cause(err)
+from .. import interrupt
+from ..errors import FolderError, WriteError
+from . import animation as animations, fonts, history as histories, pictures
+from .outdir import check_writable, read_result
 
 
 def check_folder_name(out) -> None:
     """FolderError for an output folder named by an empty or blank string:
     Path("") is the current folder, where the result would land among
     whatever is there (the command line refuses `-o ""` the same way)."""
-    from ..errors import FolderError
-
     if isinstance(out, str) and not out.strip():
         raise FolderError(repr(out), "an empty folder name (it would mean the current folder; say . for that)")
 
 
 def draw_pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:
-    """({name: path}, warnings) of the pictures drawn here (see api._pictures): a picture that cannot be drawn is a warning, one the folder refuses (WriteError) raises."""
-    from ..errors import WriteError
-
+    """({name: path}, warnings) of the pictures drawn here (fractures.png, history.png, the animation as asked): a picture that
+    cannot be drawn is a warning, one the folder refuses (WriteError) raises."""
     warnings = []
     try:
         drawn = plot(out, history=history, animation=animation, summary=summary, failed=warnings)
     except WriteError:   # a picture not written: the run fails (loop.run), not a warning
         raise
     except Exception as err:  # noqa: BLE001 - reading the result back failed: no picture at all
-        if (stop := _cause(err)) is not None:
+        if (stop := interrupt.cause(err)) is not None:
             raise stop from None
         drawn = {}
         warnings.append(not_drawn("the pictures", err, out))
@@ -65,9 +59,6 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
     Only these pictures are (re)written: they are views of the data, which
     is never touched. Raises FolderError when `folder` is missing, is not a
     wingcrack result or cannot be written."""
-    from ..errors import WriteError
-    from .outdir import check_writable, read_result
-
     check_folder_name(folder)   # not locked here: run and sif call it on rank 0 only, inside their lock
     result = read_result(folder, summary=summary)
     folder = check_writable(folder)
@@ -77,7 +68,7 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
         try:
             files[name] = make()
         except Exception as err:  # noqa: BLE001 - reported, and the other pictures still drawn
-            stop = _cause(err)
+            stop = interrupt.cause(err)
             if stop is not None:   # an error that a stop caused: the stop
                 raise stop from None
             if failed is None or isinstance(err, WriteError):   # a picture not written: the folder is at fault
@@ -85,23 +76,15 @@ def plot(folder, history: bool = True, animation: bool = True, fmt: str | None =
             failed.append(not_drawn(what, err, folder))
 
     def fractures():
-        from .pictures import fractures_of_result
-
-        fractures_of_result(folder / "fractures.png", result)
+        pictures.fractures_of_result(folder / "fractures.png", result)
         return folder / "fractures.png"
 
     def history_png():
-        from .history import plot_history
-
-        plot_history(folder / "history.png", result.summary, result)
+        histories.plot_history(folder / "history.png", result.summary, result)
         return folder / "history.png"
 
     def growth():
-        from .animation import animate_growth
-
-        return animate_growth(folder, result, fmt)
-
-    from . import fonts
+        return animations.animate_growth(folder, result, fmt)
 
     with fonts.quiet_glyphs():   # said once below, not a warning a glyph
         draw("picture", "fractures.png", fractures)
