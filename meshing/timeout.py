@@ -12,6 +12,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from meshing import worker
+
 
 class MeshTimeout(RuntimeError):
     """The meshing process did not finish within the time limit."""
@@ -27,8 +29,6 @@ class Pending:
         if timeout is None:
             self._work = (fn, args)   # in-process: computed at result(), where the caller waits anyway
         else:
-            from meshing import worker
-
             self._work = None
             self._call = worker.send(fn, args, timeout)
 
@@ -36,18 +36,14 @@ class Pending:
         if self._call is None:
             if self._work is None:
                 raise RuntimeError("this meshing call was cancelled")
-            from meshing import load_gmsh
-
             fn, args = self._work
             self._work = None
-            load_gmsh()   # in this process: its import must not leave SIGINT to the default action
+            worker.load_gmsh()   # in this process: its import must not leave SIGINT to the default action
             t0 = time.perf_counter()
             try:
                 return fn(*args)
             finally:
                 self.seconds = time.perf_counter() - t0
-        from meshing import worker
-
         try:
             value = self._call.result()
         except worker.WorkerTimeout as error:

@@ -1,5 +1,5 @@
 """The drawing process: the pictures of a result drawn in a long-lived
-worker (a meshing.worker.Channel of its own, named "drawing"), on the io side
+worker (a procs.worker.Channel of its own, named "drawing"), on the io side
 (it calls io.plotting, never api). api.sif and api.run start it at their top (rank 0 with an output
 folder), so that its interpreter start-up and matplotlib's import run while
 the case computes on the other core; at the end the pictures are drawn
@@ -12,7 +12,7 @@ are the same, and a picture the folder does not take fails as there (its
 WriteError raised here, the picture not drawn again). A drawing process that is not running (never started, or
 died) or dies while drawing: the pictures are drawn in this process
 instead. Ctrl-C or SIGTERM while waiting kills the worker (see
-meshing.worker.Call) and reaches the caller as KeyboardInterrupt, as when
+procs.worker.Call) and reaches the caller as KeyboardInterrupt, as when
 the drawing was in-process.
 """
 from __future__ import annotations
@@ -28,7 +28,7 @@ _channel = None
 def _drawing():
     global _channel
     if _channel is None:
-        from meshing.worker import Channel
+        from procs.worker import Channel
 
         _channel = Channel("drawing", f"{__name__}:preload")
     return _channel

@@ -33,7 +33,7 @@ def plate(steps=2):
 @pytest.fixture
 def calls(monkeypatch):
     """What the drawing process was asked (function names), and its pid."""
-    from meshing.worker import Channel
+    from procs.worker import Channel
 
     seen = []
     real = Channel.call
@@ -159,7 +159,7 @@ def test_a_dead_drawing_process_leaves_the_pictures_to_this_one(tmp_path, monkey
     """The worker killed before the pictures are asked for, or after the
     request is sent (the answer never comes): the pictures are drawn here,
     with no warning."""
-    from meshing.worker import Channel
+    from procs.worker import Channel
 
     real_pictures, real_send = drawing.pictures, Channel.send
     killed = []
@@ -199,7 +199,7 @@ def test_ctrl_c_while_the_worker_draws(tmp_path, monkeypatch, when):
     afterwards."""
     import threading
 
-    from meshing.worker import Channel
+    from procs.worker import Channel
 
     real = Channel.send
     sent = []
@@ -291,7 +291,7 @@ def test_a_large_answer_comes_back_in_linear_time():
     machine."""
     import time
 
-    from meshing import worker
+    from procs import worker
 
     channel = worker.Channel("test", "numpy")
     try:
