@@ -117,7 +117,7 @@ def crack_mesh(
     circle's nodes with them (node numbering may differ). A patch that does
     not fit (patch_circle: off the boundary and the bc points by 2 size,
     every fracture wholly inside or outside and clear of it by
-    patch._patch_clearance) is ignored (stats["patch"] False, far None), as is one
+    clearance.clearance_of) is ignored (stats["patch"] False, far None), as is one
     not centred on the centre of a point-symmetric geometry (the symmetry is
     kept instead; a centred one is used with it).
     A fracture end that lies on another fracture (or on a non-adjacent part of

@@ -1,8 +1,8 @@
 """The patch: a circle whose outside meshes alike whatever lies inside.
 
-The circle (Circle: fixed nodes), the clearances a patch needs from the
-fractures, tips, boundary and bc points (patch_clearance,
-patch_boundary_clearance, patch_circle), and mesh_patched: the far field
+The circle (Circle: fixed nodes), the circle of a run where it keeps the
+clearances (meshing.clearance) from the fractures, tips, boundary and bc
+points (patch_circle), and mesh_patched: the far field
 built and meshed first, then the inside (far_cache.FarCache: a far field
 the same as the last call's is not meshed again)."""
 
@@ -13,14 +13,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from meshing import point_symmetry
+from meshing import clearance, point_symmetry
 from meshing.far_cache import FarCache
 from meshing.gmsh_geometry import (box, fracture_curves, mirror_dividers, outer_curves, point_tags, rosette_curves,
                                    vertex_at)
 from meshing.p2_readback import extract, rim
 from meshing.plan import Plan
 from meshing.records import RawMesh
-from meshing.size_field import GRADING, TIP_GRADING, size_field
+from meshing.size_field import size_field
 
 
 @dataclass(frozen=True)
@@ -56,52 +56,11 @@ class Circle:
         return cls(c, float(radius), float(spacing), pts, mids)
 
 
-def _patch_clearance(size: float, tip_size: float, tip_h: float | None = None, sectors: int = 16) -> float:
-    """The least distance between the patch circle and a fracture (tip_h None)
-    or a tip with rosette radius tip_h. The size field (size_field) is a min
-    of thresholds that reach `size` at DistMax from their fracture or tip:
-    (size - h_crack) / GRADING from a fracture (h_crack >= tip_size, so
-    (size - tip_size) / GRADING bounds it), h + (size - h_ring) / TIP_GRADING
-    from a tip (h_ring the rosette's chord, below tip_size: a tip reaches
-    farther than its fracture). Beyond it every threshold is `size` exactly
-    (gmsh's Threshold returns SizeMax there, and its sampled distance never
-    undercuts the true one), so on the circle and outside it the field does
-    not depend on what is inside. The 2 size more keep the graded cells
-    inside off the circle: the cells that touch it inside are of its own
-    spacing, and the inside's meshing starts from a boundary that is not
-    crowded by the refinement (tests/test_meshing_patch.py measures the far
-    field's identity with it)."""
-    if tip_h is None:
-        return 2.0 * size + (size - tip_size) / GRADING
-    return 2.0 * size + tip_h + (size - 2.0 * tip_h * math.sin(math.pi / sectors)) / TIP_GRADING
-
-
-#: the smallest rosette radius of a tip, in tip sizes (a wing's: min(tip_size,
-#: 0.75 L) with L >= 0.4 tip_size, wingcrack.case's Propagation.length)
-SMALLEST_ROSETTE = 0.3
-
-
-def patch_clearance(size: float, tip_size: float, sectors: int) -> float:
-    """The room a caller leaves between a patch circle and any fracture or
-    tip for the mesher to use the patch: _patch_clearance's largest over
-    fractures and over tips of any rosette radius from SMALLEST_ROSETTE
-    tip sizes to tip_size (the tip's bound is linear in the radius, so the
-    ends bound it)."""
-    return max(_patch_clearance(size, tip_size),
-               *(_patch_clearance(size, tip_size, h, sectors) for h in (SMALLEST_ROSETTE * tip_size, tip_size)))
-
-
-def patch_boundary_clearance(size: float) -> float:
-    """The room between a patch circle and the outer boundary (and every bc
-    point) that the mesher asks."""
-    return 2.0 * size
-
-
 def patch_circle(domain, plan: Plan, frame, patch, size, tip_size, sectors, sizes=None) -> Circle | None:
     """The patch (center, radius; the caller's frame) in gmsh's frame, or None
     when it does not fit: the circle within the domain and 2 size off its
     boundary and off every anchor (bc points, crack mouths), every fracture
-    wholly inside or wholly outside it and _patch_clearance away from it,
+    wholly inside or wholly outside it and clearance.clearance_of away from it,
     every tip likewise. Never an error: a patch that does not fit only
     costs the caller the reuse. Its nodes are `size` apart, or as far apart
     as the smallest of the size field `sizes` (gmsh's frame) on the
@@ -117,11 +76,11 @@ def patch_circle(domain, plan: Plan, frame, patch, size, tip_size, sectors, size
         return None
     if not (np.all(np.isfinite(c)) and math.isfinite(r) and r > 0.0):
         return None
-    if not domain.contains(c) or domain.distance_to_boundary(c) < r + patch_boundary_clearance(size):
+    if not domain.contains(c) or domain.distance_to_boundary(c) < r + clearance.patch_boundary_clearance(size):
         return None
-    if any(np.linalg.norm(a - c) < r + patch_boundary_clearance(size) for _, _, a in plan.anchors):
+    if any(np.linalg.norm(a - c) < r + clearance.patch_boundary_clearance(size) for _, _, a in plan.anchors):
         return None
-    clear = _patch_clearance(size, tip_size)
+    clear = clearance.clearance_of(size, tip_size)
     for pts in plan.fractures:
         if np.linalg.norm(pts - c, axis=1).max() <= r - clear:
             continue  # inside
@@ -131,7 +90,7 @@ def patch_circle(domain, plan: Plan, frame, patch, size, tip_size, sectors, size
             continue  # outside
         return None
     for t in plan.tips:
-        if abs(np.linalg.norm(t.x - c) - r) < _patch_clearance(size, tip_size, t.h, sectors):
+        if abs(np.linalg.norm(t.x - c) - r) < clearance.clearance_of(size, tip_size, t.h, sectors):
             return None
     spacing = size
     if sizes is not None and len(sizes[0]):

@@ -9,14 +9,10 @@ import os
 
 import numpy as np
 
+from meshing.clearance import GRADING, TIP_GRADING
 from meshing.plan import Plan
 
 
-# Size growth per element layer away from tips and fractures: h(d) = h0 + GRADING * d
-# makes neighbouring layers differ by a factor 1 + GRADING.
-GRADING = 0.3
-#: the same around the tips (the rosette's surroundings set the SIF accuracy)
-TIP_GRADING = 0.3
 # Element size along a fracture, in tip sizes (capped by `size`).
 CRACK_SIZE_IN_TIPS = 2.0
 

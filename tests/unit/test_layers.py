@@ -4,6 +4,7 @@ wingcrack/fem/, and meshing uses the compiled kernels (wingcrack_kernels)
 without loading the wingcrack package. Static (every import statement,
 nested ones too) and by what a fresh interpreter really loads."""
 import ast
+import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -138,12 +139,7 @@ def test_a_missing_kernel_module_is_named_with_its_remedy():
 # The target layering (tests/whiteboard.json, a copy of the design's board):
 # parts are files or folders, "never" pairs are imports that must not exist.
 # A file belongs to the part that names it most precisely (meshing/domain.py
-# is geometry, not meshing). Nevers still broken on this branch, each to be
-# removed from here when its import is gone:
-NEVER_NOT_YET = {
-    ("propagation", "meshing"),   # growth.py -> network.py, patch.py -> meshing/patch.py
-    ("geometry", "meshing"),      # admissibility.py -> network.py
-}
+# is geometry, not meshing).
 
 
 def _part_of(rel: str, parts: dict) -> str | None:
@@ -201,10 +197,18 @@ def test_no_import_the_board_forbids():
     assert "wingcrack/step.py" in edges["wingcrack/propagation/loop.py"]   # the check sees relative imports
     bad = {}
     for src, dst, *why in board["never"]:
-        if (src, dst) in NEVER_NOT_YET:
-            continue
         for a, targets in edges.items():
             for b in targets:
                 if _part_of(a, parts) == src and _part_of(b, parts) == dst:
                     bad.setdefault(f"{src} -> {dst}", []).append(f"{a} -> {b}")
     assert not bad, bad
+
+
+def test_no_two_modules_import_each_other_in_a_circle():
+    """Among wingcrack/, meshing/ and procs/, every import (those inside
+    functions too) taken as a dependency: no cycle (benchmarks/structure.py
+    reads them, the same count its report gives)."""
+    spec = importlib.util.spec_from_file_location("_structure", ROOT / "benchmarks" / "structure.py")
+    structure = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(structure)
+    assert structure.measure(ROOT)["import cycles"] == []

@@ -32,13 +32,13 @@ from scipy.spatial import cKDTree
 
 from meshing import Domain, crack_mesh
 from meshing import far_cache
-from meshing import patch as patch_module   # `patch` is the tests' own name for a patch
+from meshing import clearance as clearance_module
 from meshing.mesher import triangle_quality
 
 R = 0.042
 DISC = Domain("disc", center=[0.0, 0.0], radius=R)
 DISC_POINTS = [np.array(p, float) for p in ([0, R], [0, -R], [-R, 0], [R, 0])]
-# size 2 mm, tip 0.5 mm: a tip must stay 10.8 mm off the circle (_patch_clearance)
+# size 2 mm, tip 0.5 mm: a tip must stay 10.8 mm off the circle (meshing.clearance.clearance_of)
 DISC_MESH = dict(size=0.002, tip_size=0.0005, sectors=32)
 DISC_PATCH = (np.zeros(2), 0.02)
 
@@ -285,7 +285,7 @@ def test_a_tip_just_beyond_the_clearance_keeps_the_far_field():
     """The crack grown until its tips are 1.001 clearances off the circle
     (the nearest the rule lets them come) against a short one."""
     size, tip = DISC_MESH["size"], DISC_MESH["tip_size"]
-    reach = patch_module._patch_clearance(size, tip, tip, DISC_MESH["sectors"])
+    reach = clearance_module.clearance_of(size, tip, tip, DISC_MESH["sectors"])
     half = DISC_PATCH[1] - 1.001 * reach
     a = crack_mesh(DISC, [crack(135, 0.002)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     b = crack_mesh(DISC, [crack(135, half)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
@@ -296,7 +296,7 @@ def test_a_tip_within_reach_changes_the_far_field(monkeypatch):
     """The control: with the clearance rule switched off, a tip 2 mm off the
     circle (the tip's size field reaches 2.8 mm further) changes the far
     field, and the comparison sees it."""
-    monkeypatch.setattr(patch_module, "_patch_clearance", lambda *args: 0.0)
+    monkeypatch.setattr(clearance_module, "clearance_of", lambda *args: 0.0)
     a = crack_mesh(DISC, [crack(135, 0.005)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     b = crack_mesh(DISC, [crack(135, 0.018)], DISC_POINTS, **DISC_MESH, patch=DISC_PATCH)
     assert a.stats["patch"] and b.stats["patch"]

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from meshing.clearance import patch_boundary_clearance, patch_clearance
+
 #: the growth steps (of Lmax at every tip) an epoch leaves room for: a
 #: wider patch makes each step's factorisation of the patch dearer, a
 #: narrower one starts epochs (each a whole factorisation) more often
@@ -49,14 +51,10 @@ class Patch:
 def clearance(case) -> float:
     """The room the mesher asks between the circle and any fracture (and,
     with `boundary_clearance`, the outer boundary): meshing's own rule."""
-    from meshing.patch import patch_clearance
-
     return patch_clearance(case.mesh.size, case.mesh.tip_size, case.mesh.sectors)
 
 
 def boundary_clearance(case) -> float:
-    from meshing.patch import patch_boundary_clearance
-
     return patch_boundary_clearance(case.mesh.size)
 
 
