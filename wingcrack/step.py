@@ -1,6 +1,5 @@
 """One step of wingcrack, the same for `sif` (step 0, at load factor 1) and
 for every step of `run` (the paper's Fig. 8 loop, propagation/loop.py):
-
     fractures (polylines)
       -> discretise(): crack mesh (meshing worker, under a time limit)
          -> DOLFINx mesh -> loads -> free pieces? -> assembly
@@ -22,11 +21,22 @@ from pathlib import Path
 
 import numpy as np
 
-from .version import __version__
 import wingcrack_kernels as K
+from meshing import mesher, start_worker
 from . import progress
+from .contact.constraints import constraint_rows
 from .errors import ComputationError, WriteError
+from .fem.nodal import nodal_displacements
+from .floating import Floating
+from .free_pieces import describe, free_pieces
+from .io.faces import SLIP, STICK, write_faces
+from .io.fields import write_field_arrays
+from .io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
+from .io.pvd import write_pvd
+from .loads import case_loads
+from .parallel import RootPending, on_root, world_rank
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
+from .version import __version__
 
 #: seconds gmsh may take for one mesh; then it is retried once, coarser, and
 #: then the step fails (meshing/timeout.py)
@@ -117,7 +127,7 @@ class Discretisation:
     def correlation_sifs(self, case):
         """(KI, KII) of every tip by displacement correlation: four nodal
         displacements a tip, cheap enough for the critical-load search."""
-        from .tip_sifs import correlation_sifs
+        from .tip_sifs import correlation_sifs   # DOLFINx: loaded by a run's first step, not by check
 
         m = case.material
         return correlation_sifs(self.problem, self.cm, m.E, m.nu, m.plane)
@@ -126,7 +136,7 @@ class Discretisation:
         """TipSIF of every tip of the mesh for the current solution: both
         methods, and theta, K_eq, G of the method that drives growth
         (case.propagation.sif). polylines: the fractures' (n, 2) points."""
-        from .tip_sifs import tip_sifs
+        from .tip_sifs import tip_sifs   # DOLFINx: loaded by a run's first step, not by check
 
         m = case.material
         forces = self.face_forces()
@@ -190,8 +200,6 @@ class Discretisation:
         non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
         fracture at the solved load (Pa)}. Collective (the face displacements are
         gathered)."""
-        from .fem.nodal import nodal_displacements
-
         pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
         fm, u = self.problem.fm, self.problem.u
         jump = nodal_displacements(fm, u, pairs[:, 0]) - nodal_displacements(fm, u, pairs[:, 1])
@@ -211,8 +219,6 @@ class Discretisation:
                 "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure}
 
     def contact_record(self) -> ContactRecord:
-        from .io.faces import SLIP, STICK
-
         c = self.contact
         rec = ContactRecord(int(len(self.cm.pairs)), int(len(c.rows)))
         if c.result is not None:
@@ -273,14 +279,10 @@ class MeshRequest:
     also an error of the start, which is raised there and not before)."""
 
     def __init__(self, case, fractures, sizes, timeout, patch=None):
-        from meshing.mesher import start_crack_mesh
-
-        from .parallel import RootPending
-
         self.polylines = [np.asarray(f.points, float).copy() for f in fractures]
         self.sizes = sizes
         self.patch = patch
-        self._pending = RootPending(lambda: start_crack_mesh(
+        self._pending = RootPending(lambda: mesher.start_crack_mesh(
             case.domain, self.polylines, case.bc_points(), case.mesh.size, case.mesh.tip_size,
             sectors=case.mesh.sectors, sizes=sizes, timeout=timeout,
             patch=None if patch is None else patch.for_mesher()))
@@ -322,11 +324,8 @@ def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
     """Start the meshing worker (rank 0, when meshing goes to it: a time
     limit), so that its start-up overlaps the caller's (DOLFINx's import,
     the form compilation) instead of the first mesh's wait."""
-    from .parallel import world_rank
 
     if timeout is not None and world_rank() == 0:
-        from meshing import start_worker
-
         start_worker()
 
 
@@ -355,14 +354,11 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
         mesh.cancel()
         raise RuntimeError("the mesh begun for this step is of other fractures or sizes (a bug in the caller)")
     try:
-        from .contact.constraints import constraint_rows
         from .fem.contact_problem import ContactProblem
         from .fem.elasticity import ElasticProblem
         from .fem.far_field import FarField
         from .fem.mesh import to_dolfinx
         from .fem.pair_operator import PairOperator
-        from .free_pieces import free_pieces
-        from .loads import case_loads
     except BaseException:   # Ctrl-C during the imports: the mesh is not collected
         mesh.cancel()
         raise
@@ -416,8 +412,6 @@ def floating_pieces(cm, loads, rows, pieces):
     contact row (open faces): nothing can hold it."""
     if not pieces:
         return None
-    from .floating import Floating
-    from .free_pieces import describe
 
     faces = np.zeros(len(cm.x), bool)
     faces[np.r_[rows.plus, rows.minus].astype(np.int64)] = True
@@ -523,11 +517,6 @@ def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> N
     Collective: the values are gathered first, then rank 0 writes, and a
     file it cannot write (WriteError) is raised on every rank (parallel.on_root:
     otherwise the others would wait for rank 0 in the next step)."""
-    from .io.faces import write_faces
-    from .io.fields import write_field_arrays
-    from .io.outdir import FACES_PVD, FIELDS_PVD, faces_name, fields_name
-    from .io.pvd import write_pvd
-    from .parallel import on_root
 
     out = Path(out)
     about = {"step": k, "load_factor": load_factor}
@@ -547,7 +536,6 @@ def files_of(out, n: int) -> dict:
     """{name: path} of the data files of a result of n steps in `out`
     (span names such as step_{0000..0014}.vtu; the pictures are added by
     api)."""
-    from .io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
 
     def span(name):
         return name(0) if n == 1 else name(0).replace("0000", f"{{0000..{n - 1:04d}}}")
