@@ -7,6 +7,7 @@ sys.path.insert(0, str(ROOT))
 
 project = "wingcrack"
 author = "wingcrack developers"
+copyright = "wingcrack developers; method after Dang-Trung, Keilegavlen & Berre, IJSS 204-205 (2020)"
 extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "nbsphinx"]
 source_suffix = {".md": "markdown"}
 myst_enable_extensions = ["dollarmath"]
