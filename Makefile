@@ -8,14 +8,15 @@ export PATH := $(CURDIR)/$(VENV)/bin:/usr/bin:/bin:$(PATH)
 export OMP_NUM_THREADS ?= 1
 
 # libopenblas0-serial: Debian's alternatives then point libblas/liblapack (numpy,
-# scipy, MUMPS) at OpenBLAS instead of the reference BLAS (faster: README,
-# Performance). Serial: one thread per MPI rank.
+# scipy, MUMPS) at OpenBLAS instead of the reference BLAS (faster: the benchmarks,
+# docs/developer/performance.md). Serial: one thread per MPI rank.
 # openmpi-bin: mpirun, for `mpirun -n N wingcrack run` and its test.
 APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
   libgtest-dev googletest python3-scipy python3-matplotlib python3-pil python3-meshio \
   python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build \
   libopenblas0-serial openmpi-bin \
-  python3-nbclient python3-nbformat python3-ipykernel
+  python3-nbclient python3-nbformat python3-ipykernel \
+  python3-sphinx python3-myst-parser python3-nbsphinx pandoc
 KERNEL_FILES := $(wildcard cpp_kernels/*/*.cpp cpp_kernels/include/wingcrack/*.hpp) CMakeLists.txt pyproject.toml
 STAMP := $(VENV)/.wingcrack-installed
 # The editable install maps each Python module to its file once: a module added, moved or
@@ -26,7 +27,7 @@ MODULE_LIST := $(VENV)/.wingcrack-modules
 # Jupyter kernel that runs the venv's python (sees DOLFINx and wingcrack): notebooks/
 KERNELSPEC := $(VENV)/share/jupyter/kernels/wingcrack/kernel.json
 
-.PHONY: setup apt venv demo test test-fast test-cpp test-cpp-sanitize test-py bench soak clean
+.PHONY: docs setup apt venv demo test test-fast test-cpp test-cpp-sanitize test-py bench soak clean FORCE
 
 setup: apt $(STAMP) $(KERNELSPEC)
 
@@ -59,7 +60,12 @@ $(KERNELSPEC): $(STAMP)
 demo: setup
 	$(VENV)/bin/wingcrack run cases/brazilian_disc_45.toml -o results/brazilian_disc_45 --force
 
-test: setup test-cpp test-cpp-sanitize test-py
+test: setup test-cpp test-cpp-sanitize test-py docs
+
+# The site (docs/, MyST Markdown) in build/docs/html; every warning is an error.
+docs: setup
+	$(PY) benchmarks/doc_tables.py
+	$(PY) -m sphinx -b html -W --keep-going -n -q docs build/docs/html
 
 test-cpp: apt
 	cmake -S . -B build/cpp -G Ninja -DWINGCRACK_PYTHON=OFF -DWINGCRACK_TESTS=ON -DCMAKE_BUILD_TYPE=Release > /dev/null

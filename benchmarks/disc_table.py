@@ -1,4 +1,4 @@
-"""The Brazilian-disc SIF table of the README (paper Table 2), reproducible:
+"""The Brazilian-disc SIF table of docs/verification/index.md (paper Table 2), reproducible:
 
     .venv/bin/python benchmarks/disc_table.py
 

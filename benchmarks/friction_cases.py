@@ -1,4 +1,4 @@
-"""What Coulomb friction changes, case by case (README, "What friction
+"""What Coulomb friction changes, case by case (docs/theory/contact.md, "What friction
 changes"; `make bench` runs it, not a test): each friction case and its
 frictionless original run as `wingcrack run`, and one row each of the
 initiation load, the kink at step 0, which tips grew, how far, the solves

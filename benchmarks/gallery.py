@@ -1,4 +1,4 @@
-"""The README's gallery (docs/gallery/) drawn again from the shipped cases:
+"""The gallery (docs/user-guide/gallery.md, pictures in docs/gallery/) drawn again from the shipped cases:
 each picture there named <case>.png is that case's fractures.png,
 <case>_history.png its history.png, <case>.gif its growth animation. Every
 case with a picture in the gallery runs as `wingcrack run` (with its

@@ -24,7 +24,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "cases" / "stimulation_network.toml"
 
-SEED = 20260116             # 20260115 closes a loop of fractures round a block at step 46 (README)
+SEED = 20260116             # 20260115 closes a loop of fractures round a block at step 46 (docs/user-guide/showcase.md)
 SIZE = 20.0                     # m, the square section [0, SIZE]^2
 CENTRE = np.array([SIZE / 2, SIZE / 2])
 N_FRACTURES = 16                # the central one and 15 others

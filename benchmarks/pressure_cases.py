@@ -1,5 +1,5 @@
 """What injection changes against the imposed slip of paper 4.3, and the
-showcase network (README, "Injection"; `make bench` runs it, not a test):
+showcase network (docs/theory/fluid-pressure.md, "Injection"; `make bench` runs it, not a test):
 each case runs as `wingcrack run`, and one row each gives the load at which
 the first wings start (the imposed slip u0, or the injection pressure), the
 kink at step 0 of the tips that grew, which tips grew, which joined what and
@@ -21,7 +21,7 @@ from propagation import table_runs
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: the README's table: 4.3 with its imposed slip, with friction, driven by injection
+#: the table of docs/theory/fluid-pressure.md: 4.3 with its imposed slip, with friction, driven by injection
 CASES = ["three_fractures_slip", "three_fractures_friction", "three_fractures_injection"]
 
 

@@ -1,5 +1,5 @@
 """Displacement correlation against the interaction integral as plane
-strain approaches incompressibility (not a test; the README quotes it).
+strain approaches incompressibility (not a test; docs/theory/method.md quotes it).
 
 A Griffith crack (2a = 2 m, at 45 degrees to a uniaxial remote tension of
 1 MPa in a plate 100a wide, plane strain, the mesh of

@@ -377,7 +377,7 @@ def test_solved_set_by_set_every_pair_system_ends_with_the_law_held(p, f, cohesi
     (about one system in ten) the cycling rows are solved as a dense problem of their own with the
     others held, and the iteration goes on (by_sets._cycling_rows). Every system ends; the law holds to
     round-off; without cohesion the answer is the dense route's (a unique solution) to 1e-10. With
-    cohesion the law is not single-valued where bonds break (README, Fracture contact), and the two
+    cohesion the law is not single-valued where bonds break (docs/theory/contact.md), and the two
     fallbacks may break different ones: there the law is what is checked."""
     fell_back = 0
     for seed in range(40):
