@@ -13,7 +13,7 @@ source_suffix = {".md": "markdown"}
 myst_enable_extensions = ["dollarmath"]
 myst_heading_anchors = 3
 exclude_patterns = ["_build", "_generated", "**.ipynb_checkpoints"]
-# The notebooks are stored without outputs (tests/test_notebooks.py checks that):
+# The notebooks are stored without outputs (tests/command_line/test_notebooks.py checks that):
 # the site shows their code and text; `make test` runs them.
 nbsphinx_execute = "never"
 autodoc_member_order = "bysource"

@@ -13,7 +13,7 @@ boundary", "touching" and "zero length"; clearances around a crack tip are
 in rosette radii h (the mesher's rosette: radius min(tip_size, 0.75 x the
 tip's segment)). The clearances were measured with the mesher, its own
 checks switched off, on the rectangle [-1, 1]^2 with tip_size 0.02, size
-0.2 and 32 sectors (tests/test_admissibility.py keeps the measurements):
+0.2 and 32 sectors (tests/unit/test_admissibility.py keeps the measurements):
 the mesh of a rosette disc that comes within g h of something else has a
 triangle of quality ~g (the rosette's own sectors: 0.33); at g = 0 the
 mesh is invalid or gmsh aborts.

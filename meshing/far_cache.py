@@ -16,7 +16,7 @@ class FarCache:
     again: its surfaces are hidden from gmsh (Mesh.MeshOnlyVisible; their
     boundary curves are still meshed, alike), and its cells are taken from
     here, glued by their nodes on those curves, which carry the same bits
-    (tests/test_meshing_patch.py: the mesh is then bitwise the one that
+    (tests/unit/test_meshing_patch.py: the mesh is then bitwise the one that
     meshing it gives). Only the last far field is kept: a propagation
     loop's far field changes seldom and is large."""
 

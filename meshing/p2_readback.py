@@ -24,7 +24,7 @@ class _P2:
     of a triangle or of a curve's line element, at 0.5 (a + b), on a circle
     arc (rim) at the circle's point on the edge's bisector (the arc's
     middle, which gmsh's setOrder(2) finds by a Newton solve to a relative
-    1e-6 only: tests/test_mid_nodes.py), on a one-edge curve of `mids` at
+    1e-6 only: tests/unit/test_mid_nodes.py), on a one-edge curve of `mids` at
     the given point. Built here, not by setOrder(2), for its cost: a
     sizeable part of gmsh's time on meshes of many fractures. A mid node
     is a function of its edge's vertex coordinates only (0.5 (a + b) is the

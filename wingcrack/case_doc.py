@@ -2,7 +2,7 @@
 
 Each table of the reference sits between `<!-- keys: NAME -->` and
 `<!-- end keys -->` (NAME as in `case.DESCRIPTION`). `python -m
-wingcrack.case_doc` rewrites them; tests/test_case.py checks that the file
+wingcrack.case_doc` rewrites them; tests/unit/test_case.py checks that the file
 holds what `render` gives, so the reference and the reader cannot drift.
 """
 from __future__ import annotations

@@ -67,7 +67,7 @@ NODE_TOL = 1e-9
 #: Default agreement demanded by `wingcrack crosscheck` (u_rel and sif_rel).
 #: Two direct solves of one discrete system differ by round-off, measured at
 #: 1e-14 to 1e-12 (displacements and SIFs) on the cases of
-#: tests/test_crosscheck.py; a wrong load, quadrature or node map shows as 1e-6
+#: tests/verification/test_crosscheck.py; a wrong load, quadrature or node map shows as 1e-6
 #: or more (cell quadrature of order 6 instead of 4: 1e-6 to 4e-5).
 TOLERANCE = 1e-6
 

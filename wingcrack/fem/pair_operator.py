@@ -38,7 +38,7 @@ SPAN = 2
 #: ... where the least-squares residual is below this times |mu|: the multipliers come
 #: from a dense solve of the pair system, so they carry its round-off, about
 #: cond(S_AA) eps (1.9e-14 between two load factors of a closed crack in a plate,
-#: tests/test_solve_span.py), above the 1e-14 that assembled right-hand sides meet;
+#: tests/unit/test_solve_span.py), above the 1e-14 that assembled right-hand sides meet;
 #: a residual within that round-off changes the response no more than mu's own error does
 SPAN_TOLERANCE = 1e-12
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "

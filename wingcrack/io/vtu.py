@@ -4,7 +4,7 @@ writes none), so that a step file is not read back and rewritten to add
 its step and load factor.
 
 The text is the one meshio's writer and a rewrite adding the field data
-gave together (tests/test_output_vtu.py keeps that route as the
+gave together (tests/command_line/test_output_vtu.py keeps that route as the
 reference): attributes, line breaks, the FieldData element at the head
 of UnstructuredGrid, byte for byte at the same zlib level; every reader
 of those files (meshio, VTK's vtkXMLUnstructuredGridReader, ParaView)
