@@ -16,8 +16,12 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))
+# the builders here, and each group's folder: a test may take a helper from
+# another group's test module (robustness/test_unwritable_output.py from
+# command_line/test_resume.py), whichever files a run collects
+for folder in [HERE, *sorted(p for p in HERE.iterdir() if p.is_dir() and any(p.glob("test_*.py")))]:
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
 
 import pytest
 

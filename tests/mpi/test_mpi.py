@@ -175,7 +175,7 @@ def test_a_failure_on_two_ranks_is_raised_on_both(tmp_path):
     script = tmp_path / "free.py"
     script.write_text(f"""
 import sys
-sys.path.insert(0, {str(ROOT / "tests")!r})
+sys.path[:0] = [{str(ROOT / "tests")!r}, {str(ROOT / "tests" / "robustness")!r}]
 from dataclasses import replace
 import numpy as np
 from mpi4py import MPI
