@@ -14,8 +14,8 @@ import contextlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import drawing, step
-from . import interrupt
+from . import drawing, interrupt, step
+from .io.plotting import check_folder_name, plot   # plot: the public `wingcrack.plot`, one function
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -56,9 +56,6 @@ def _require_case(case) -> None:
                         "wingcrack.Case.from_toml(path) or wingcrack.Case.from_dict(table))")
 
 
-from .io.plotting import check_folder_name as _folder_name  # noqa: E402 - the one rule of a folder's name
-
-
 def _prepare_out(out, force: bool = False) -> Path:
     """io.outdir.prepare on rank 0; every rank raises its FolderError."""
     from mpi4py import MPI
@@ -95,7 +92,7 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     """
     _require_case(case)
     if out is not None:
-        _folder_name(out)
+        check_folder_name(out)
     interrupt.forget()   # a stop before this call (a run's, caught by the caller) is past
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     if out is not None:
@@ -192,7 +189,7 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
         raise TypeError(f"progress: expected True, False, None or a callable progress(k, step), got "
                         f"{type(progress).__name__}")
     if out is not None:
-        _folder_name(out)
+        check_folder_name(out)
     step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
     if out is not None:
         drawing.start()   # matplotlib's import, too, while the case computes
@@ -309,13 +306,3 @@ def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -
     drawn, warnings = drawing.pictures(out, summary, history, animation)
     files.update(drawn)
     return warnings
-
-
-def plot(folder, history: bool = True, animation: bool = True, fmt: str | None = None, summary: dict | None = None,
-         failed: list | None = None) -> dict:
-    """Draw the pictures of a result folder and return {name: path}: see
-    wingcrack.io.plotting.plot (fractures.png; history.png and growth.gif /
-    growth.mp4 with at least one step, unless switched off)."""
-    from .io import plotting
-
-    return plotting.plot(folder, history=history, animation=animation, fmt=fmt, summary=summary, failed=failed)
