@@ -62,6 +62,19 @@ class Joined:
         because it lies on a fracture (junction and met ends)."""
         return dict(self.partner)
 
+    def group_of(self, f: int) -> list:
+        """The sorted fractures that meet fracture f, directly or through
+        others (at a T, end to end, at an X), f among them."""
+        seen, todo = {f}, [f]
+        while todo:
+            g = todo.pop()
+            for members in self.nodes.values():
+                met = {h for h, _ in members}
+                if g in met:
+                    todo += sorted(met - seen)
+                    seen |= met
+        return sorted(seen)
+
 
 # ---------------------------------------------------------------- searches
 

@@ -346,15 +346,31 @@ def describe(case) -> str:
     )
     load = {"scale": f"load scaled (at most x{_g(pr.max_load_factor)})",
             "pressure": f"fracture pressures scaled (injection, at most x{_g(pr.max_load_factor)})",
-            "fixed": "load fixed"}[pr.load]
+            "fixed": "load fixed", "injection": "driven by the pump below (every other load fixed)"}[pr.load]
     if any(f.pressure for f in case.fractures):
         load += ", connected fractures share their pressure" if pr.connect_pressure else \
             ", each fracture keeps its own pressure"
     lines.append(
         f"propagation: at most {pr.steps} steps of at most {_g(pr.length)} m, alpha {_g(pr.alpha)}, {load}"
     )
+    if case.injection is not None:
+        lines += _injection_text(case)
     lines.append("ok: the case is valid")
     return "\n".join(lines)
+
+
+def _injection_text(case) -> list:
+    """`check`'s lines on the pump: where, the schedule, the fluid."""
+    from wingcrack.propagation.schedule import Schedule
+
+    inj = case.injection
+    at = inj.point if inj.point is not None else case.fractures[inj.fracture].midpoint
+    joins = "the fractures its wings join enter the network" if case.propagation.connect_pressure else \
+        "its wings' joins do not connect it (connect_pressure = false)"
+    return [f"injection: into fracture {inj.fracture} at {_pt(at)}; {joins}",
+            f"  schedule: {Schedule.of(inj).describe()}",
+            f"  fluid: compressibility {_g(inj.compressibility)} 1/Pa, initial pressure {_g(inj.initial_pressure)} "
+            f"Pa, residual aperture {_g(inj.residual_aperture)} m"]
 
 
 def _domain_text(case) -> str:

@@ -12,7 +12,8 @@ from meshing import admissibility
 from meshing.domain import Domain
 from wingcrack.case import reader
 from wingcrack.case.bounds import REL_TOL
-from wingcrack.case.records import BC, Body, Fracture, Material, MeshOptions, Propagation, Stress, Tip
+from wingcrack.case.records import BC, Body, Fracture, Injection, Material, MeshOptions, Propagation, Stress, Tip
+
 
 @dataclass(frozen=True, eq=False)
 class Case:
@@ -20,7 +21,8 @@ class Case:
 
     Fields: title, material, domain (meshing.Domain), fractures (tuple of
     Fracture), bcs (tuple of BC, in file order), body, stress, mesh
-    (MeshOptions), propagation, source (the file, or None).
+    (MeshOptions), propagation, injection (Injection, or None without a
+    pump), source (the file, or None).
     """
 
     title: str
@@ -32,6 +34,7 @@ class Case:
     stress: Stress
     mesh: MeshOptions
     propagation: Propagation
+    injection: Injection | None = None
     source: Path | None = field(default=None, compare=False)
 
     @classmethod
