@@ -79,7 +79,9 @@ def _prepare_out(out, force: bool = False) -> Path:
 
 def sif(case, out=None, force: bool = False) -> SifResult:
     """One solve of the initial geometry at load factor 1 (with contact on
-    non-open faces) and the SIFs of every tip: step 0 of a run.
+    non-open faces) and the SIFs of every tip: step 0 of a run. With a pump
+    (load = "injection"), the state at t = 0: the injected network at its
+    initial pressure, every other load as given.
 
     With `out`, writes the layout of a one-step run there: summary.json,
     step_0000.vtu (displacement, stress), faces_0000.vtu (opening, slip,
@@ -110,6 +112,7 @@ def _sif(case, out, force) -> SifResult:
 
     if out is not None:
         out = _prepare_out(out, force)
+    case = case.at_start()   # with a pump: t = 0, the network at its initial pressure
     writes = out is not None and MPI.COMM_WORLD.rank == 0
     pieces = FractureSet.from_case(case).summary()
 

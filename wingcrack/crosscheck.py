@@ -369,7 +369,7 @@ def crosscheck(case, load_factor: float = 1.0) -> CrossCheck:
     from .fem.nodal import nodal_displacements
     from .step import FAILURES, Timer, failure, solve_initial
 
-    case, opened = open_faces(case)
+    case, opened = open_faces(case.at_start())   # with a pump: t = 0, what `sif` solves
     timer = Timer()
     try:
         sol = solve_initial(case, timer, load_factor=load_factor)

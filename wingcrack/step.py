@@ -16,7 +16,7 @@ status "failed: step <k>: <reason>", the same for both commands.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -88,12 +88,16 @@ class Discretisation:
     elastic problem (fem.elasticity.ElasticProblem, assembled and
     factorised); contact, its contact problem (fem.contact_problem);
     pressures, the fluid pressure of every fracture it was built from, at
-    load factor 1 (their indices are cm.pair_fracture's)."""
+    load factor 1 (their indices are cm.pair_fracture's); network, with
+    load = "injection", the injected network's fractures, whose pressure
+    is the load factor."""
     cm: object
     problem: object
     contact: object
     pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
     far: object = None   # the far field's factorisation it used (fem.far_field.FarField), or None
+    network: np.ndarray = None   # (n_fractures,) bool, load = "injection" only
+    _openings: object = field(default=None, repr=False)
 
     @property
     def dofs(self) -> int:
@@ -151,22 +155,36 @@ class Discretisation:
         """(n_nodes, 2) the forces on the face nodes at the current solution,
         contact and fluid pressure (the interaction integral's crack-face
         term), or None when the faces carry none."""
-        loads = self.problem.loads
         out = None
         if self.contact.result is not None:
             out = self.contact.nodal_forces(len(self.cm.x))
-        if loads.face_forces is not None and np.any(loads.face_forces):
-            p = loads.pressure_factor(self.problem.load_factor_solved) * loads.face_forces
+        p = self.problem.loads.face_forces_at(self.problem.load_factor_solved)
+        if p is not None:
             out = p if out is None else out + p
         return out
 
     def pressure_at(self, load_factor: float) -> np.ndarray:
         """(n_fractures,) the fluid pressure of each fracture at `load_factor`
-        (Pa; the given pressures times the factor that multiplies them)."""
+        (Pa; the given pressures times the factor that multiplies them; with
+        load = "injection" the factor itself on the injected network)."""
         if self.pressures is None:   # built without them: dry fractures
             n = int(np.max(self.cm.pair_fracture, initial=-1)) + 1 if len(self.cm.pairs) else 0
             return np.zeros(n)
+        if self.network is not None:
+            return np.where(self.network, float(load_factor), self.pressures)
         return self.pressures * self.problem.loads.pressure_factor(load_factor)
+
+    def openings(self) -> np.ndarray:
+        """(n_fractures,) the integral of the normal opening [u].n over each
+        fracture's faces, wings included, at the current solution (m^2 per
+        metre; loads.opening_functionals: the consistent P2 integral, the
+        pressure's work per unit pressure). Collective."""
+        if self._openings is None:
+            from .fem.nodal_functionals import NodalFunctionals
+            from .loads import opening_functionals
+
+            self._openings = NodalFunctionals(self.problem, opening_functionals(self.cm, len(self.pressure_at(1.0))))
+        return self._openings.values()
 
     def driving_sifs(self, case, polylines):
         """(KI, KII) of every tip by the method that drives growth: displacement
@@ -330,7 +348,8 @@ def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
 
 
 def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT,
-               history=None, mesh: MeshRequest | None = None, patch=None, far=None) -> Discretisation:
+               history=None, mesh: MeshRequest | None = None, patch=None, far=None,
+               network=None) -> Discretisation:
     """Mesh `fractures` (anything with .points: case Fracture or
     GrowingFracture) in the case's domain, with the bc points as nodes, in
     the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
@@ -346,8 +365,12 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     (fem.far_field.FarField): reused when this mesh's far field is its, else
     (and when there is none) a new one is factorised where the mesh has a
     far field; the one used is Discretisation.far (the caller's to destroy
-    when it changes)."""
+    when it changes); network: with load = "injection", (n_fractures,) bool,
+    the injected network (its pressure is the load factor; default: the
+    injected fracture and those it meets, as at the start)."""
     polylines = [np.asarray(f.points, float) for f in fractures]
+    if case.propagation.load == "injection" and network is None:
+        network = case.network_at_start()
     if mesh is None:   # begun before the imports below, which then overlap gmsh
         mesh = start_mesh(case, fractures, sizes, timeout, patch)
     elif not mesh.is_for(polylines, sizes, patch):
@@ -369,7 +392,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
     m = case.material
-    loads = case_loads(case, cm, fractures)
+    loads = case_loads(case, cm, fractures, network)
     rows = constraint_rows(cm, fractures)
     floating = floating_pieces(cm, loads, rows, free_pieces(cm, loads))
     saddle = len(rows) > DENSE_ROWS
@@ -402,7 +425,8 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far)
+    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far,
+                          None if network is None else np.asarray(network, bool))
 
 
 def floating_pieces(cm, loads, rows, pieces):

@@ -84,6 +84,27 @@ class Case:
         net = admissibility.joined(self.domain, self.fracture_points())
         return sorted((float(x), float(y)) for x, y in net.node_points())
 
+    def network_at_start(self) -> np.ndarray:
+        """(n_fractures,) bool: the injected fracture and every fracture it
+        meets (at a T, end to end, at an X), directly or through others: the
+        network the pump fills at t = 0. All False without a pump."""
+        out = np.zeros(len(self.fractures), bool)
+        if self.injection is not None:
+            net = admissibility.joined(self.domain, self.fracture_points())
+            out[net.group_of(self.injection.fracture)] = True
+        return out
+
+    def at_start(self) -> Case:
+        """The case as `sif` solves it: with a pump, its network at the
+        initial pressure and every load as given (load = "fixed"); the case
+        itself without one."""
+        if self.injection is None:
+            return self
+        p0 = self.injection.initial_pressure
+        inside = self.network_at_start()
+        fractures = tuple(replace(f, pressure=p0) if inside[i] else f for i, f in enumerate(self.fractures))
+        return replace(self, fractures=fractures, propagation=replace(self.propagation, load="fixed"), injection=None)
+
     def bc_points(self) -> list[np.ndarray]:
         """The distinct points of point conditions (`at`), to embed in the mesh."""
         tol = REL_TOL * self.length_scale

@@ -96,6 +96,7 @@ class ElasticProblem:
         self.bcs, self._bc_values = self._dirichlet(loads)
         self._point_forces = self._locate_point_forces(loads.point_forces)
         self._face_dofs, self._face_values = self._locate_face_forces(loads.face_forces)
+        self._fixed_dofs, self._fixed_values = self._locate_face_forces(loads.fixed_face_forces)
 
         self.partial = far_interior is not None
         self.A = self._assemble_part(far_interior) if self.partial else self._assemble_whole()
@@ -383,7 +384,8 @@ class ElasticProblem:
 
     def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
         """The right-hand side at `load_factor`: it multiplies the bc values
-        (unless the load mode is "pressure") and the fracture pressures."""
+        (unless the load mode is "pressure" or "injection") and the fracture
+        pressures (with "injection" those of the injected network only)."""
         pressure = self.loads.pressure_factor(load_factor)
         load_factor = self.loads.bc_factor(load_factor)
         self.load_factor.value = load_factor
@@ -399,6 +401,8 @@ class ElasticProblem:
                 arr[dof] += load_factor * val
         if len(self._face_dofs):
             b.getArray()[self._face_dofs] += pressure * self._face_values
+        if len(self._fixed_dofs):
+            b.getArray()[self._fixed_dofs] += self._fixed_values
         fpetsc.apply_lifting(b, [self.a], bcs=[self.bcs])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         if len(self.gauge_dofs):
