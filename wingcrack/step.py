@@ -32,7 +32,7 @@ from .free_pieces import describe, free_pieces
 from .io.faces import SLIP, STICK, write_faces
 from .io.fields import write_field_arrays
 from .io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
-from .io.pvd import write_pvd
+from .io.pvd import increasing, write_pvd
 from .loads import case_loads
 from .parallel import RootPending, on_root, world_rank
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
@@ -504,14 +504,14 @@ def sif_warnings(tips, KIc=None) -> list:
 
 
 def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, timer: Timer, solves: int = 1,
-           states=None, advances=None, KIc=None) -> StepRecord:
+           states=None, advances=None, KIc=None, times=None) -> StepRecord:
     """The record of solved step k (tip states and advances when it grew;
     "arrested" and 0 otherwise), its files written when there is an output
     folder `out`; the fractures' pressures at `load_factor`
     (Discretisation.pressure_at); its SIF warnings against the case's KIc
-    (sif_warnings)."""
+    (sif_warnings). times: the physical times of steps 0..k (s), or None."""
     if out is not None:
-        write_step_files(out, k, load_factor, disc)
+        write_step_files(out, k, load_factor, disc, times)
         timer.lap("output")
     states = states or ["arrested"] * len(tips)
     advances = advances or [0.0] * len(tips)
@@ -534,24 +534,29 @@ def require_finite(what: str, values) -> None:
                                "are beyond floating point")
 
 
-def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> None:
+def write_step_files(out, k: int, load_factor: float, disc: Discretisation, times=None) -> None:
     """step_XXXX.vtu and faces_XXXX.vtu of step k (with the step and its
-    load factor as field data), and the two ParaView indices over steps
-    0..k, rewritten so that an interrupted run keeps a complete index.
+    load factor as field data, and its time where `times`, the times of
+    steps 0..k, are given: then the ParaView indices' time axis), and the
+    two ParaView indices over steps 0..k, rewritten so that an interrupted
+    run keeps a complete index.
     Collective: the values are gathered first, then rank 0 writes, and a
     file it cannot write (WriteError) is raised on every rank (parallel.on_root:
     otherwise the others would wait for rank 0 in the next step)."""
 
     out = Path(out)
     about = {"step": k, "load_factor": load_factor}
+    axis = None if times is None else increasing(times)
+    if times is not None:
+        about["time"] = float(times[k])
     fields = disc.problem.nodal_fields(len(disc.cm.x), [t.node for t in disc.cm.tips])   # on rank 0
     faces = disc.face_values()
 
     def write():
         write_field_arrays(out / fields_name(k), disc.cm, fields, field_data=about)
         write_faces(out / faces_name(k), disc.cm, faces, field_data=about)
-        write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
-        write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
+        write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)], axis)
+        write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)], axis)
 
     on_root(write)
 

@@ -5,8 +5,10 @@ OUT/checkpoint.npz holds what the next step needs and nothing it can
 recompute: the fracture set (polylines, pre-existing range, end states,
 faces, friction, cohesion, the fluid pressure after connection and what
 each joined end met), the load factor, the finished steps'
-records, and the error-estimate size field of the next mesh (so that a
-resumed run meshes exactly as an uninterrupted one). It is written
+records, the error-estimate size field of the next mesh (so that a
+resumed run meshes exactly as an uninterrupted one) and, with a pump, its
+state (the injected network, the fluid it held without the pump, the last
+step's time and pressure: propagation.injection.Pump.to_dict). It is written
 atomically (temporary file, fsync, rename): a kill leaves the previous
 checkpoint or the new one, never half of one. A fingerprint of the case
 (everything but propagation.steps, so a run may also be resumed with more
@@ -31,8 +33,8 @@ from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
 #: 2: the fractures' friction and cohesion; 3: their fluid pressure and joined_to; 4: the case's keys
-#: (case_keys), the title out of the fingerprint.
-VERSION = 4
+#: (case_keys), the title out of the fingerprint; 5: the pump's state (and the case's [injection]).
+VERSION = 5
 
 
 def _case_text(case) -> str:
@@ -94,12 +96,13 @@ def _plain(obj):
     return repr(obj)
 
 
-def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None, patch=None) -> None:
+def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None, patch=None,
+         pump=None) -> None:
     """steps: the finished steps' records (dicts); history: the converged
     slip of the Coulomb faces (SlipHistory, or None); patch: the run's
     propagation.patch.Patch (None: none), so that a resumed run meshes as
-    the uninterrupted one."""
-    _save(out, (fingerprint(case), case_keys(case)), k, fset, lam, steps, None, sizes, history, patch)
+    the uninterrupted one; pump: the pump's state (a dict, or None)."""
+    _save(out, (fingerprint(case), case_keys(case)), k, fset, lam, steps, None, sizes, history, patch, pump)
 
 
 class Writer:
@@ -113,16 +116,17 @@ class Writer:
         self.out, self.case = out, (fingerprint(case), case_keys(case))
         self._texts = StepTexts(lambda r: json.dumps(r.to_dict(), default=_plain))
 
-    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None, patch=None) -> None:
+    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None, patch=None,
+             pump=None) -> None:
         """records: the finished steps (results.StepRecord)."""
-        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history, patch)
+        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history, patch, pump)
 
 
 #: where the steps' texts go in the meta's text (no case text holds NULs)
 _STEPS_MARK = "\0steps of the checkpoint\0"
 
 
-def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None) -> None:
+def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None, pump=None) -> None:
     """case_print: (fingerprint, case_keys) of the case."""
     from ..version import __version__
 
@@ -130,6 +134,7 @@ def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patc
         "version": VERSION, "case": case_print[0], "case_keys": case_print[1], "wingcrack": __version__,
         "step": k, "load_factor": lam,
         "patch": None if patch is None else patch.to_list(),
+        "pump": pump,
         "steps": steps if step_texts is None else _STEPS_MARK,
         "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
                        "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion,
@@ -166,7 +171,7 @@ def _patch(values):
 
 
 def load(out, case) -> dict:
-    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history', 'patch'} of the checkpoint in
+    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history', 'patch', 'pump'} of the checkpoint in
     `out`; ValueError naming the file and the reason when there is none, it
     cannot be read (truncated, empty, not a checkpoint, keys missing) or it
     belongs to another case."""
@@ -210,7 +215,7 @@ def load(out, case) -> dict:
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
                  "fset": FractureSet(fractures, FractureSet.case_links(case)), "sizes": sizes, "history": history,
-                 "patch": _patch(meta.get("patch"))}
+                 "patch": _patch(meta.get("patch")), "pump": meta.get("pump")}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "

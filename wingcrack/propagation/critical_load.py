@@ -35,28 +35,40 @@ class CriticalLoad:
     solves: int
 
 
-def scales_with_load(case, fset) -> bool:
+def scales_with_load(case, fset, network=None) -> bool:
     """Does the whole response of the fracture set `fset` scale with the
     load factor (a scaled load, no in-situ stress, no body force, no gap;
-    with load = "pressure" also no bc value or slip, which stay fixed)?"""
+    with load = "pressure" also no bc value or slip, which stay fixed; with
+    "injection" nor a given pressure outside the injected `network`, (n,)
+    bool)?"""
     m = case.material
     body = m.density * np.linalg.norm(case.body.gravity)
     load = case.propagation.load
-    fixed = load == "pressure" and (any(any(b.value) for b in case.bcs) or any(f.slip for f in fset.fractures))
-    return (load in ("scale", "pressure") and not fixed and not np.any(case.stress.tensor())
+    fixed = load in ("pressure", "injection") and (any(any(b.value) for b in case.bcs)
+                                                   or any(f.slip for f in fset.fractures))
+    if load == "injection":
+        fixed = fixed or any(f.pressure for f, inside in zip(fset.fractures, network) if not inside)
+    return (load in ("scale", "pressure", "injection") and not fixed and not np.any(case.stress.tensor())
             and body == 0 and all(f.gap == 0 for f in fset.fractures))
 
 
 def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,
                          homogeneous: bool, limit: float, rtol: float = 1e-6,
-                         accept: Callable[[], None] | None = None) -> CriticalLoad:
+                         accept: Callable[[], None] | None = None, first: float | None = None,
+                         beyond: Callable[[float], bool] | None = None,
+                         at_root: float = AT_ROOT) -> CriticalLoad:
     """keq(lam) -> largest K_eq over the growing tips at load factor lam.
     accept(): the last keq solve becomes the state later solves start from
-    (friction); called on each lower end of the bracket.
+    (friction); called on each lower end of the bracket. first: the first
+    trial above start (default 2 start, or start + 1); beyond(lam): after a
+    trial at lam below KIc, is the load past what the run can reach (no
+    answer then, as past `limit`)? at_root: a trial with KIc <= K_eq <=
+    KIc (1 + at_root) is the answer.
 
     The load only rises: the result is >= start. If K_eq(start) >= KIc, the
     answer is start."""
     accept = accept or (lambda: None)
+    beyond = beyond or (lambda lam: False)
     solves = 0
     if homogeneous:
         k = keq(1.0)
@@ -71,13 +83,13 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
     if f_lo >= 0:
         return CriticalLoad(lo, solves)
     accept()
-    hi = max(2.0 * lo, lo + 1.0) if lo > 0 else 1.0
+    hi = first if first is not None and first > lo else max(2.0 * lo, lo + 1.0) if lo > 0 else 1.0
     while True:
         f_hi = keq(hi) - KIc
         solves += 1
         if f_hi >= 0:
             break
-        if hi >= limit:
+        if hi >= limit or beyond(hi):
             return CriticalLoad(None, solves)
         accept()
         lo, f_lo = hi, f_hi
@@ -90,7 +102,7 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
             lam = 0.5 * (lo + hi)
         f = keq(lam) - KIc
         solves += 1
-        if 0 <= f <= AT_ROOT * KIc:
+        if 0 <= f <= at_root * KIc:
             # K_eq(lam) is KIc to round-off: lam is the critical load (the bracket's
             # far end would only creep up to it, by halves from the other side)
             return CriticalLoad(lam, solves)

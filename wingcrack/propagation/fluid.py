@@ -65,11 +65,13 @@ class Balance:
 
 
 def balance_pressure(volume_at: Callable[[float], float], fluid: float, c: float, p0: float, start: float,
-                     step: float, floor: float = FLOOR, rtol: float = BALANCE_RTOL) -> Balance:
+                     step: float, floor: float = FLOOR, rtol: float = BALANCE_RTOL,
+                     slope: float | None = None) -> Balance:
     """The pressure p >= floor at which exp(c (p - p0)) volume_at(p) equals
-    `fluid`, from the guess `start` with a first step of about `step` (> 0,
-    Pa; the secant's slope after two trials). volume_at(p) solves at p; the
-    solution left is the root's (the last trial is the returned one)."""
+    `fluid`, from the guess `start`: its first step is Newton's with
+    `slope` (an estimate of d fluid / dp > 0, m^3/m per Pa) where given,
+    else of about `step` (> 0, Pa); then secants. volume_at(p) solves at p;
+    the solution left is the root's (the last trial is the returned one)."""
     trials = []
 
     def f(p):
@@ -89,7 +91,8 @@ def balance_pressure(volume_at: Callable[[float], float], fluid: float, c: float
     if abs(f0) <= tol:
         return done(x0, f0)
     direction = -1.0 if f0 > 0 else 1.0
-    x1 = max(x0 + direction * abs(step), floor)
+    first = abs(f0) / slope if slope else abs(step)
+    x1 = max(x0 + direction * first, floor)
     # bracket: secant steps from the last two trials (exact where V is linear in p: open faces,
     # a set of contact states that holds), at most 100 times the last, doubled where the secant
     # points back

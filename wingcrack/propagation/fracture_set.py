@@ -152,12 +152,16 @@ class FractureSet:
             groups.setdefault(root(i), []).append(i)
         return sorted(groups.values())
 
-    def connect_pressures(self) -> bool:
+    def connect_pressures(self, exclude=()) -> bool:
         """Every connected group takes the highest pressure among its
         fractures (the injected fluid floods what it reaches; nothing drains
-        it). Returns whether any pressure changed."""
+        it), but a group holding a fracture of `exclude` (a pumped network,
+        whose pressure is its fluid balance's). Returns whether any pressure
+        changed."""
         changed = False
         for group in self.connected_groups():
+            if set(group) & set(exclude):
+                continue
             p = max(self.fractures[i].pressure for i in group)
             for i in group:
                 if self.fractures[i].pressure != p:
