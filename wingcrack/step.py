@@ -97,6 +97,7 @@ class Discretisation:
     pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
     far: object = None   # the far field's factorisation it used (fem.far_field.FarField), or None
     network: np.ndarray = None   # (n_fractures,) bool, load = "injection" only
+    residual: float = 0.0   # the faces' residual aperture (m; injection.residual_aperture, 0 without a pump)
     _openings: object = field(default=None, repr=False)
 
     @property
@@ -216,7 +217,9 @@ class Discretisation:
         drives; 0 without a tangential row), "state" and "closed"
         (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
         non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
-        fracture at the solved load (Pa)}. Collective (the face displacements are
+        fracture at the solved load (Pa), "aperture": (p,) the fluid's aperture
+        w + g + the residual aperture (m; w = [u].n, g the initial gap where a
+        normal row holds it)}. Collective (the face displacements are
         gathered)."""
         pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
         fm, u = self.problem.fm, self.problem.u
@@ -233,8 +236,14 @@ class Discretisation:
             tangential_traction[c.rows.pair[~normal]] = t[~normal]
         pressure = self.pressure_at(self.problem.load_factor_solved)[np.asarray(self.cm.pair_fracture, np.int64)] \
             if len(pairs) else np.zeros(0)
+        gap = np.zeros(len(pairs))
+        normal = c.rows.normal
+        gap[c.rows.pair[normal]] = c.rows.gap[normal]
+        n = np.asarray(self.cm.pair_normal, float).reshape(-1, 2)
+        aperture = np.sum(jump * n, axis=1) + gap + self.residual
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
-                "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure}
+                "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure,
+                "aperture": aperture}
 
     def contact_record(self) -> ContactRecord:
         c = self.contact
@@ -425,8 +434,9 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
+    residual = 0.0 if case.injection is None else float(case.injection.residual_aperture)
     return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far,
-                          None if network is None else np.asarray(network, bool))
+                          None if network is None else np.asarray(network, bool), residual)
 
 
 def floating_pieces(cm, loads, rows, pieces):

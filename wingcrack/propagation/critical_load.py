@@ -56,14 +56,17 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
                          homogeneous: bool, limit: float, rtol: float = 1e-6,
                          accept: Callable[[], None] | None = None, first: float | None = None,
                          beyond: Callable[[float], bool] | None = None,
-                         at_root: float = AT_ROOT) -> CriticalLoad:
+                         at_root: float = AT_ROOT, two_sided: bool = False) -> CriticalLoad:
     """keq(lam) -> largest K_eq over the growing tips at load factor lam.
     accept(): the last keq solve becomes the state later solves start from
     (friction); called on each lower end of the bracket. first: the first
     trial above start (default 2 start, or start + 1); beyond(lam): after a
     trial at lam below KIc, is the load past what the run can reach (no
     answer then, as past `limit`)? at_root: a trial with KIc <= K_eq <=
-    KIc (1 + at_root) is the answer.
+    KIc (1 + at_root) is the answer; two_sided: also one with K_eq down to
+    KIc (1 - at_root) (where the caller takes a root a hair below KIc: a
+    response linear in the load puts the secant's trial on either side by
+    round-off, and the far end would creep to it by halves).
 
     The load only rises: the result is >= start. If K_eq(start) >= KIc, the
     answer is start."""
@@ -102,7 +105,7 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
             lam = 0.5 * (lo + hi)
         f = keq(lam) - KIc
         solves += 1
-        if 0 <= f <= at_root * KIc:
+        if (-at_root * KIc if two_sided else 0.0) <= f <= at_root * KIc:
             # K_eq(lam) is KIc to round-off: lam is the critical load (the bracket's
             # far end would only creep up to it, by halves from the other side)
             return CriticalLoad(lam, solves)

@@ -66,12 +66,15 @@ class Balance:
 
 def balance_pressure(volume_at: Callable[[float], float], fluid: float, c: float, p0: float, start: float,
                      step: float, floor: float = FLOOR, rtol: float = BALANCE_RTOL,
-                     slope: float | None = None) -> Balance:
+                     closing: float | None = None, constant: float = 0.0) -> Balance:
     """The pressure p >= floor at which exp(c (p - p0)) volume_at(p) equals
-    `fluid`, from the guess `start`: its first step is Newton's with
-    `slope` (an estimate of d fluid / dp > 0, m^3/m per Pa) where given,
-    else of about `step` (> 0, Pa); then secants. volume_at(p) solves at p;
-    the solution left is the root's (the last trial is the returned one)."""
+    `fluid`, from the guess `start`; then secants. The first step: where
+    `closing` is given (the pressure at which the faces' opening, the volume
+    less its `constant` part, vanishes: the normal stress on the fractures),
+    Newton's with the opening taken proportional to p - closing (exact for a
+    crack under a uniform normal stress); else of about `step` (> 0, Pa).
+    volume_at(p) solves at p; the solution left is the root's (the last
+    trial is the returned one)."""
     trials = []
 
     def f(p):
@@ -91,7 +94,11 @@ def balance_pressure(volume_at: Callable[[float], float], fluid: float, c: float
     if abs(f0) <= tol:
         return done(x0, f0)
     direction = -1.0 if f0 > 0 else 1.0
-    first = abs(f0) / slope if slope else abs(step)
+    first = abs(step)
+    opening = trials[-1][1] - constant
+    if closing is not None and x0 > closing and opening > 0:
+        slope = density_ratio(x0, c, p0) * (opening / (x0 - closing) + c * trials[-1][1])
+        first = abs(f0) / slope
     x1 = max(x0 + direction * first, floor)
     # bracket: secant steps from the last two trials (exact where V is linear in p: open faces,
     # a set of contact states that holds), at most 100 times the last, doubled where the secant

@@ -422,7 +422,7 @@ class _Run:
         with interrupt.deferred():
             self.record(record, disc)
             if self.pump is not None:
-                self.pump.advance(fluid["step"])
+                self.pump.advance(fluid["step"], self.done.fractures)
                 self.pump.join(self.fset, fluid["volumes"], fluid["pressures"])
             if self.prop.connect_pressure:   # the next step meshes and loads with the connected pressures
                 self.fset.connect_pressures(exclude=() if self.pump is None else self.pump.network)
