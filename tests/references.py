@@ -71,10 +71,11 @@ class KGDToughness:
     Sneddon's opening of a crack under the net pressure p - s0 in an infinite
     plate, w(x) = 4 (p - s0) / E' sqrt(l^2 - x^2), holds the volume
     2 pi (p - s0) l^2 / E' (Tada, Paris & Irwin, 5.1); with a residual
-    aperture w_r along its length 2 l the crack holds
-        V(p, l) = 2 pi (p - s0)+ l^2 / E' + 2 w_r l.
+    aperture w_r along its pre-existing length 2 l0 (the grown part, a fresh
+    crack, holds none) the crack holds
+        V(p, l) = 2 pi (p - s0)+ l^2 / E' + 2 w_r l0.
     Once growing, KI = (p - s0) sqrt(pi l) = KIc:
-        p(l) = s0 + KIc / sqrt(pi l),   V(l) = 2 sqrt(pi) KIc l^1.5 / E' + 2 w_r l.
+        p(l) = s0 + KIc / sqrt(pi l),   V(l) = 2 sqrt(pi) KIc l^1.5 / E' + 2 w_r l0.
     The fluid (counted at the density of p0, rho = rho0 exp(c (p - p0))):
         exp(c (p(l) - p0)) V(l) = V0 + Q t,   V0 = V(p0, l0),
     so the time at which the crack reaches half-length l is explicit,
@@ -90,7 +91,7 @@ class KGDToughness:
         return self.s0 + self.KIc / np.sqrt(np.pi * l)
 
     def volume(self, p, l):
-        return 2 * np.pi * max(p - self.s0, 0.0) * l * l / self.Ep + 2 * self.w_r * l
+        return 2 * np.pi * max(p - self.s0, 0.0) * l * l / self.Ep + 2 * self.w_r * self.l0
 
     def fluid(self, p, l):
         return np.exp(self.c * (p - self.p0)) * self.volume(p, l)

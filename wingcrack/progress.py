@@ -97,8 +97,9 @@ def progress_text(step: dict) -> str:
     secs = {p: v for p, v in step.get("seconds", {}).items() if p != "total"}
     slow = max(secs, key=secs.get) if secs else None
     slowest = f"slowest {slow} {secs[slow]:.2f} s" if slow else "slowest -"
-    return (f"load {step['load_factor']:.4g}, {step['dofs']} DOFs, "
-            f"{step['contact']['closed']} closed pairs, {slowest}")
+    load = f"load {step['load_factor']:.4g}" if "time" not in step else \
+        f"t {step['time']:.4g} s, p {step['injection']['pressure'] / 1e6:.4g} MPa"
+    return f"{load}, {step['dofs']} DOFs, {step['contact']['closed']} closed pairs, {slowest}"
 
 
 class Heartbeat:

@@ -24,7 +24,7 @@ import numpy as np
 import wingcrack_kernels as K
 from meshing import mesher, start_worker
 from . import progress
-from .contact.constraints import constraint_rows
+from .contact.constraints import constraint_rows, pre_existing_pairs
 from .errors import ComputationError, WriteError
 from .fem.nodal import nodal_displacements
 from .floating import Floating
@@ -97,7 +97,7 @@ class Discretisation:
     pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
     far: object = None   # the far field's factorisation it used (fem.far_field.FarField), or None
     network: np.ndarray = None   # (n_fractures,) bool, load = "injection" only
-    residual: float = 0.0   # the faces' residual aperture (m; injection.residual_aperture, 0 without a pump)
+    residual: np.ndarray = None   # (p,) each pair's residual aperture (m; a pumped case's pre-existing faces)
     _openings: object = field(default=None, repr=False)
 
     @property
@@ -219,8 +219,8 @@ class Discretisation:
         non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
         fracture at the solved load (Pa), "aperture": (p,) the fluid's aperture
         w + g + the residual aperture (m; w = [u].n, g the initial gap where a
-        normal row holds it)}. Collective (the face displacements are
-        gathered)."""
+        normal row holds it, the residual aperture on pre-existing faces)}.
+        Collective (the face displacements are gathered)."""
         pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
         fm, u = self.problem.fm, self.problem.u
         jump = nodal_displacements(fm, u, pairs[:, 0]) - nodal_displacements(fm, u, pairs[:, 1])
@@ -240,7 +240,7 @@ class Discretisation:
         normal = c.rows.normal
         gap[c.rows.pair[normal]] = c.rows.gap[normal]
         n = np.asarray(self.cm.pair_normal, float).reshape(-1, 2)
-        aperture = np.sum(jump * n, axis=1) + gap + self.residual
+        aperture = np.sum(jump * n, axis=1) + gap + (0.0 if self.residual is None else self.residual)
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
                 "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure,
                 "aperture": aperture}
@@ -434,7 +434,9 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    residual = 0.0 if case.injection is None else float(case.injection.residual_aperture)
+    residual = None
+    if case.injection is not None and case.injection.residual_aperture:
+        residual = case.injection.residual_aperture * pre_existing_pairs(cm, fractures)
     return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far,
                           None if network is None else np.asarray(network, bool), residual)
 

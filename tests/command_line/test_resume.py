@@ -148,6 +148,43 @@ def stop_then_resume(tmp_path, sig, delay, code, word, status):
     assert physics(r["steps"][:kept]) == physics(s["steps"])
 
 
+def test_a_killed_pumped_run_resumes_to_the_uninterrupted_runs_times_pressures_and_geometry(tmp_path):
+    """A run driven by a pump (tests/verification/test_injection_breakdown.py's
+    joins: its network takes in a dry and a wet fracture at step 2), killed
+    with SIGKILL after its first step and resumed: the checkpoint's pump
+    (the network, the fluid it held, the last time and pressure) carries it
+    on to the uninterrupted run's steps, to the digits (the same meshes and
+    solves: the run is deterministic), and the PVD's time axis is the steps'
+    times."""
+    from test_injection_breakdown import joining_dict
+    from wingcrack.io.pvd import read_pvd
+
+    case = tmp_path / "case.toml"
+    case.write_text(to_toml(joining_dict(steps=4)))
+    ref = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "ref"), "--quiet", "--no-plots"],
+                         capture_output=True, text=True)
+    assert ref.returncode == 0, ref.stderr
+    out = tmp_path / "out"
+    proc = start(case, out)
+    wait_for_steps(proc, out, 1)
+    t0 = time.perf_counter()
+    while not (out / "checkpoint.npz").exists():   # written just after summary.json
+        assert time.perf_counter() - t0 < 60
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert 1 <= finished_steps(out) < 4
+    resumed = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots", "--resume"],
+                             capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    a, b = (json.loads((d / "summary.json").read_text()) for d in (tmp_path / "ref", out))
+    assert a["status"] == b["status"] and len(a["steps"]) == len(b["steps"]) == 4
+    for sa, sb in zip(a["steps"], b["steps"]):
+        assert sa["time"] == sb["time"] and sa["injection"] == sb["injection"] and sa["networks"] == sb["networks"]
+    assert a["fractures"] == b["fractures"]
+    assert [t for t, _ in read_pvd(out / "fields.pvd")] == [s["time"] for s in a["steps"]]
+
+
 def test_resume_refuses_what_it_cannot_continue(tmp_path):
     case = write_case(tmp_path / "case.toml", steps=2)
     nothing = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "none"), "--resume"],

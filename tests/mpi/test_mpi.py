@@ -121,7 +121,8 @@ if MPI.COMM_WORLD.rank == 0:
 
 
 @pytest.mark.parametrize("case", ["brazilian_disc_45.toml", "multi_fractures_shear.toml",
-                                  "brazilian_disc_45_friction.toml", "three_fractures_injection.toml"])
+                                  "brazilian_disc_45_friction.toml", "three_fractures_injection.toml",
+                                  "three_fractures_injection_rate.toml"])
 def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
     path = with_steps(case, 10, tmp_path / case)
     wingcrack(1, "run", path, "-o", tmp_path / "one", "--quiet", "--no-plots")
@@ -139,6 +140,12 @@ def test_ten_steps_on_two_ranks_follow_the_same_paths(tmp_path, case):
     assert len(fa) == len(fb)
     for p, q in zip(fa, fb):
         assert p.shape == q.shape and np.abs(p - q).max() <= 1e-12 * size
+    if "rate" in case:   # the pump's times and pressures: the load factor's round-off (1e-8, as above)
+        for sa, sb in zip(a["steps"], b["steps"]):
+            assert abs(sa["time"] - sb["time"]) <= 1e-8 * sa["time"]
+            for key in ("pressure", "volume", "injected"):
+                assert abs(sa["injection"][key] - sb["injection"][key]) <= 1e-8 * abs(sa["injection"][key])
+            assert [n["fractures"] for n in sa["networks"]] == [n["fractures"] for n in sb["networks"]]
     if "injection" in case:   # the pressure went the same way through the network
         for sa, sb in zip(a["steps"], b["steps"]):   # the load factor's round-off (1e-8, as above)
             pa, pb = np.array(sa["pressures"]), np.array(sb["pressures"])

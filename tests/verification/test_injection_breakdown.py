@@ -64,12 +64,12 @@ def test_breakdown_is_the_critical_injection_pressure():
         assert after["injection"]["history"][0][0] == before["time"]
 
 
-def joining_case():
+def joining_dict(steps=5):
     """Fracture 0 (injected, frictionless) grows straight along x under an
     isotropic compression; its wings T-join fracture 1 (dry, Coulomb) at
     x = 0.8 and fracture 2 (Coulomb, its fluid at 2 MPa) at x = -0.8."""
     wall = {"faces": "coulomb", "friction": 0.6}
-    return Case.from_dict({
+    return {
         "title": "joins", "material": {"E": 10e9, "nu": 0.25, "KIc": 1e6, "plane": "strain"},
         "domain": {"shape": "rectangle", "corner": [-5.0, -5.0], "size": [10.0, 10.0]},
         "fractures": [{"points": [[-0.5, 0.0], [0.5, 0.0]], "faces": "frictionless"},
@@ -78,8 +78,12 @@ def joining_case():
         "bc": [{"at": [-5.0, -5.0], "displacement": [0.0, 0.0]}, {"at": [5.0, -5.0], "displacement_y": 0.0}],
         "stress": {"sxx": -5e6, "syy": -5e6},
         "mesh": {"size": 1.0, "tip_size": 0.05},
-        "propagation": {"steps": 5, "length": 0.1, "load": "injection"},
-        "injection": {"fracture": 0, "rate": 1e-5, "residual_aperture": 1e-4, "initial_pressure": 1e6}})
+        "propagation": {"steps": steps, "length": 0.1, "load": "injection"},
+        "injection": {"fracture": 0, "rate": 1e-5, "residual_aperture": 1e-4, "initial_pressure": 1e6}}
+
+
+def joining_case():
+    return Case.from_dict(joining_dict())
 
 
 def test_the_fluid_balance_holds_at_every_step_across_joins():

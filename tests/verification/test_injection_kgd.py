@@ -12,9 +12,10 @@ l0 a tip and step), plane strain, fed at Q = 1e-4 m^3/s per m.
   (4.5e-10 1/Pa) and a residual aperture of 1e-4 m: the exact form
       t(l) = (exp(c (p(l) - p0)) V(l) - V0) / Q,
       p(l) = s0 + KIc / sqrt(pi l),
-      V(l) = 2 sqrt(pi) KIc l^1.5 / E' + 2 w_r l,   V0 = 2 w_r l0,
+      V(l) = 2 sqrt(pi) KIc l^1.5 / E' + 2 w_r l0,   V0 = 2 w_r l0,
   (Sneddon's volume 2 pi (p - s0) l^2 / E' at KI = KIc, the residual
-  aperture along 2 l, the fluid counted at the density of p0).
+  aperture along the pre-existing 2 l0, the fluid counted at the density of
+  p0).
 
 At every step the crack of half-length l_k (the step's geometry) reaches
 KIc at the recorded time t_k and pressure p_k: the run's l(t) is l_k at
@@ -35,12 +36,12 @@ over the steps, no far stress; run `python benchmarks/kgd_convergence.py`):
 
 so a plate of 100 final lengths and rosettes of a fifth of l0 keep both
 below 1e-3, five times inside the tolerance; under confinement the same
-mesh gives 4.7e-4 (l) and 2e-5 (p).
+mesh gives 6.6e-4 (l) and 2e-5 (p).
 
 After each growth the same fluid fills the longer crack: the pressure
 falls to the balance of the next step, which the closed form gives at the
 half-length l_{k+1} and the fluid of t_k (the crack open, not at KIc):
-    exp(c (p - p0)) (2 pi (p - s0) l^2 / E' + 2 w_r l) = V0 + Q t_k,
+    exp(c (p - p0)) (2 pi (p - s0) l^2 / E' + 2 w_r l0) = V0 + Q t_k,
 checked at 1e-3 (the FE volume's error on these meshes is 3e-4 of
 Sneddon's, and dp / p <= dV / V here) - the sawtooth of the breakdown curve.
 """

@@ -248,9 +248,11 @@ class Injection:
                                  doc="c of the fluid's density, rho = rho0 exp(c (p - p0)) (p0 the "
                                      "`initial_pressure`); 0: incompressible. The default is water's.")
     residual_aperture: float = key(0.0, unit="m", range=NON_NEGATIVE, limit=Limit(hi=MAX_STRAIN, of="L", why=SMALL),
-                                   doc="An aperture every face holds beyond its opening: the fluid a closed "
-                                       "fracture holds. A fracture's volume is the integral of its normal "
-                                       "opening (+ its `gap` on contact faces) plus this times its length.")
+                                   doc="The aperture a pre-existing fracture's faces hold beyond their opening "
+                                       "(their roughness): the fluid a closed fracture holds. Wings, fresh cracks "
+                                       "whose faces mate, hold none. A fracture's volume is the integral of its "
+                                       "normal opening, wings included, plus (this + its `gap` on contact faces) "
+                                       "times its pre-existing length.")
     initial_pressure: float = key(0.0, unit="Pa", range=NON_NEGATIVE, limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL),
                                   doc="p0: the pressure of the injected network at t = 0 (it holds its volume at "
                                       "p0), and the density law's reference.")

@@ -143,6 +143,17 @@ def _part(fracture, position, tol):
     return fracture.wing_faces(), 0.0, None
 
 
+def pre_existing_pairs(cm, fractures) -> np.ndarray:
+    """(p,) bool: the pairs of `cm` on the pre-existing part of their
+    fracture (not on a wing it grew), as _part tells them."""
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
+    x = np.asarray(cm.x)
+    tol = 1e-9 * float(np.ptp(x, axis=0).max()) if len(x) else 0.0
+    return np.array([_part(fractures[pfrac[i]], x[pairs[i, 0]], tol)[2] is not None for i in range(len(pairs))],
+                    bool)
+
+
 def slip_profile(fracture, position, pts=None) -> float:
     """Prescribed slip (load factor 1) at `position` on `fracture`.
 

@@ -56,7 +56,8 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
                          homogeneous: bool, limit: float, rtol: float = 1e-6,
                          accept: Callable[[], None] | None = None, first: float | None = None,
                          beyond: Callable[[float], bool] | None = None,
-                         at_root: float = AT_ROOT, two_sided: bool = False) -> CriticalLoad:
+                         at_root: float = AT_ROOT, two_sided: bool = False,
+                         secant_above: bool = False) -> CriticalLoad:
     """keq(lam) -> largest K_eq over the growing tips at load factor lam.
     accept(): the last keq solve becomes the state later solves start from
     (friction); called on each lower end of the bracket. first: the first
@@ -66,7 +67,12 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
     KIc (1 + at_root) is the answer; two_sided: also one with K_eq down to
     KIc (1 - at_root) (where the caller takes a root a hair below KIc: a
     response linear in the load puts the secant's trial on either side by
-    round-off, and the far end would creep to it by halves).
+    round-off, and the far end would creep to it by halves). secant_above:
+    once two trials lie above KIc, the next is their secant's root where it
+    falls inside the bracket (K_eq is piecewise linear in the load: zero, or
+    flat, until the faces open or slip, then linear; the regula falsi from a
+    flat lower end creeps, the secant of two trials on the linear part is
+    the root).
 
     The load only rises: the result is >= start. If K_eq(start) >= KIc, the
     answer is start."""
@@ -99,8 +105,15 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
         hi = min(2.0 * hi, limit)
     # Illinois: secant with the retained end's value halved when it repeats
     side = 0
+    above = [(hi, f_hi)]   # the trials above KIc, their values as computed
     for _ in range(200):
-        lam = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+        lam = None
+        if secant_above and len(above) > 1 and above[-1][1] != above[-2][1]:
+            (x1, g1), (x2, g2) = above[-2:]
+            lam = x2 - g2 * (x2 - x1) / (g2 - g1)
+            lam = lam if lo < lam < hi else None
+        if lam is None:
+            lam = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
         if not (lo < lam < hi):
             lam = 0.5 * (lo + hi)
         f = keq(lam) - KIc
@@ -111,6 +124,7 @@ def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float
             return CriticalLoad(lam, solves)
         if f >= 0:
             hi, f_hi = lam, f
+            above.append((lam, f))
             if side == 1:
                 f_lo *= 0.5
             side = 1

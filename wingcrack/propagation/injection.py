@@ -114,14 +114,14 @@ class Pump:
 
     def constant(self, fractures) -> np.ndarray:
         """(n_fractures,) the part of each fracture's volume that no opening
-        changes: its gap along the pre-existing part of contact faces (the
-        faces start that far apart) and the residual aperture times its
-        whole length (m^2 per metre)."""
+        changes, along its pre-existing part: the gap of contact faces (the
+        faces start that far apart) and the residual aperture (the
+        roughness of a natural fracture; a wing, a fresh crack whose faces
+        mate, holds none), m^2 per metre."""
         out = np.zeros(len(fractures))
         for i, f in enumerate(fractures):
-            if f.faces != "open" and f.gap:
-                out[i] += f.gap * _length(f.pre_points)
-            out[i] += self.residual_aperture * _length(f.points)
+            pre = _length(getattr(f, "pre_points", f.points))   # a case Fracture is all pre-existing
+            out[i] = (f.gap if f.faces != "open" else 0.0) * pre + self.residual_aperture * pre
         return out
 
     def network_volume(self, disc, fractures) -> float:
@@ -271,9 +271,12 @@ def critical(pump: Pump, disc, fractures, keq, KIc: float, E: float, homogeneous
     def beyond(p):
         return pump.past_the_pump(last["v"], p)
 
+    # the first trial above the start: the last step's critical pressure (the next one is near it on a
+    # geometry one growth apart), else a pressure scale above
+    first = pump.pressure if pump.pressure > start.pressure else start.pressure + scale
     crit = critical_load_factor(keq_v, KIc, start.pressure, homogeneous, pump.search_limit(E), rtol=1e-12,
-                                accept=accept, first=start.pressure + scale, beyond=beyond, at_root=KEQ_TOL,
-                                two_sided=True)
+                                accept=accept, first=first, beyond=beyond, at_root=KEQ_TOL, two_sided=True,
+                                secant_above=True)
     out.solves += crit.solves
     if crit.load_factor is None:
         out.stop = "pump" if last and beyond(last["p"]) else "limit"
@@ -282,7 +285,8 @@ def critical(pump: Pump, disc, fractures, keq, KIc: float, E: float, homogeneous
     out.unstable = p == start.pressure   # the tips at KIc at the balance (the search's root is above its start)
     disc.solve(p)
     v = pump.network_volume(disc, fractures)
-    t = max(pump.time_of(v, p), pump.time)
+    # unstable: the balance's state (its fluid is the held one to 1e-10: no time passes)
+    t = pump.time if out.unstable else max(pump.time_of(v, p), pump.time)
     if t > pump.schedule.end or not math.isfinite(t):
         out.stop, out.needed = "pump", p
         return out
