@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from meshing.records import RawMesh
 
@@ -361,8 +362,6 @@ def sizes_for_half(tri, vals, half: Half, tol: float):
     min(h(x), h(R x)), on the triangles that reach the meshed half; None when
     the triangles themselves are not point-symmetric (the caller then bounds
     the sizes by the field and its image)."""
-    from scipy.spatial import cKDTree
-
     tri = np.asarray(tri, dtype=np.float64)
     vals = np.asarray(vals, dtype=np.float64).reshape(len(tri), 3)
     if not len(tri):

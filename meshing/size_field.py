@@ -8,6 +8,7 @@ import math
 import os
 
 import numpy as np
+import wingcrack_kernels as _kernels
 
 from meshing.clearance import GRADING, TIP_GRADING
 from meshing.plan import Plan
@@ -28,7 +29,7 @@ def size_field(plan: Plan, tip_points, crack_curves, size, tip_size, sectors, si
     own (crack_curves then unused), so that one group's sampling does not depend on the
     others' (the patch's far field and its inside); circle: (curves, spacing) the patch
     circle, h <= spacing + GRADING dist: cells graded from its fixed nodes."""
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     field = gmsh.model.mesh.field
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
@@ -99,8 +100,7 @@ def _grid_field(tri, vals, box, size, path) -> int:
     P1 field (tri (m, 3, 2), vals (m, 3)); where several triangles overlap (a
     field and its image) the smallest value. gmsh reads `path` lazily, while
     meshing: it must stay until the mesh is generated."""
-    import gmsh
-    import wingcrack_kernels as _kernels
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     lo, step, counts = _grid(_binding_box(tri, vals, box, size), float(vals.min()))
     grid = _kernels.rasterise_p1(tri, vals, lo, [step, step], counts, size)
@@ -158,7 +158,7 @@ def _grid(box, smallest: float) -> tuple[np.ndarray, float, np.ndarray]:
 
 
 def _threshold(distance_field, h0, size, d0, grading=GRADING):
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     field = gmsh.model.mesh.field
     t = field.add("Threshold")
