@@ -8,6 +8,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 import wingcrack_kernels as K
+from .contact.face_term import face_term
 from .fem.interaction_integral import InteractionIntegral
 from .fem.nodal import nodal_displacements
 from .material import kappa
@@ -72,8 +73,6 @@ def interaction_radius(tip, fractures, domain) -> float:
 
 def _face_correction(cm, tip, face_forces, r_in, r_out, mu, kap):
     """E'/2-free face term F = int t . du^a/dx1 q ds over both faces."""
-    from .contact.face_term import face_term
-
     sel = np.asarray(cm.crack_fracture) == tip.fracture
     plus = np.asarray(cm.crack_edges)[sel]
     minus = np.asarray(cm.crack_edges_minus)[sel]

@@ -18,7 +18,9 @@ for _handler in logging.getLogger().handlers:
 
 def preload():
     """Import the DOLFINx, ufl and PETSc modules and wingcrack's form modules
-    now, so that a caller can freeze their objects for the garbage collector."""
+    now, so that a caller can freeze their objects for the garbage collector.
+    In a function on purpose: the caller chooses when DOLFINx's ~1 s import
+    runs (a run: while its first mesh is made)."""
     import dolfinx.fem.petsc  # noqa: F401
     import ufl  # noqa: F401
 

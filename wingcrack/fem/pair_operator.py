@@ -22,6 +22,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 from scipy import linalg, sparse
 
+from ..errors import ComputationError
 from .solution_span import SolutionSpan
 
 
@@ -88,7 +89,6 @@ class PairOperator:
             try:
                 L = linalg.cholesky(Sc, lower=True)
             except np.linalg.LinAlgError:
-                from ..errors import ComputationError
                 raise ComputationError(_SINGULAR) from None
             W = linalg.solve_triangular(L, BP, lower=True)
             self.S = W.T @ W

@@ -20,6 +20,9 @@ import ctypes
 import numpy as np
 from petsc4py import PETSc
 
+from ..errors import ComputationError
+from .mumps_failure import MEMORY
+
 _LIB = None
 
 
@@ -57,8 +60,6 @@ def schur_complement(factor: PETSc.Mat, k: int) -> np.ndarray:
     status = ctypes.c_int()
     err = lib.MatFactorCreateSchurComplement(ctypes.c_void_p(factor.handle), ctypes.byref(S), ctypes.byref(status))
     if err:
-        from ..errors import ComputationError
-        from .mumps_failure import MEMORY
         info = factor.getMumpsInfog(1)
         if info in MEMORY:
             raise ComputationError(f"out of memory: the factorisation of the stiffness with the pair dofs' Schur "
