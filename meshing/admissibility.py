@@ -1,5 +1,5 @@
 """What geometry can be meshed: the one set of rules that `wingcrack check`
-(wingcrack/case.py), the mesher (meshing/mesher.py), meshing.Domain and
+(wingcrack/case/), the mesher (meshing/mesher.py), meshing.Domain and
 the growth of tips (propagation/joining.py) share, so that what the check
 accepts the mesher meshes, and what growth makes the next mesh takes.
 
