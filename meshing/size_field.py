@@ -84,7 +84,7 @@ def size_field(plan: Plan, tip_points, crack_curves, size, tip_size, sectors, si
 # The size grid's spacing in units of the smallest size in the field: a mesh of
 # that size cannot represent variations finer than itself, and half of it puts
 # two grid steps in every such element. Finer grids cost more to write and to
-# read without changing the meshes (the open disc's: the same cell counts to
+# read without changing the meshes (a cracked disc's: the same cell counts to
 # 1.5 % from 1 to 1/4 of the smallest size).
 GRID_SPACING = 0.5
 # At most this many grid nodes (8 bytes each in the file gmsh reads back):

@@ -3,7 +3,7 @@
 MUMPS can eliminate every dof but a chosen few during the factorisation and
 hand back the dense Schur complement S_c = K_PP - K_PI K_II^-1 K_IP; then
 (K^-1)_PP = S_c^-1, which is all the pair system needs, with no
-back-substitution per pair row as Z = K^-1 B takes (README, Performance).
+back-substitution per pair row as Z = K^-1 B takes.
 Plain solves with the factor still work:
 PETSc condenses and expands through the Schur complement.
 
