@@ -5,6 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import sparse
+
+from .contact.constraints import edge_integrals
 
 
 @dataclass
@@ -75,10 +78,6 @@ def opening_functionals(cm, n_fractures: int):
     the isoparametric edges (the 3-point Gauss rule integrates N_i times the
     linear Jacobian of a quarter-point edge exactly); zero at a tip, whose
     node both faces share."""
-    from scipy import sparse
-
-    from .contact.constraints import edge_integrals
-
     x = np.asarray(cm.x, float)
     size = (2 * len(x), int(n_fractures))
     plus = np.asarray(cm.crack_edges, dtype=np.int64).reshape(-1, 3)
