@@ -33,7 +33,7 @@ from .io.faces import SLIP, STICK, write_faces
 from .io.fields import write_field_arrays
 from .io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
 from .io.pvd import increasing, write_pvd
-from .loads import case_loads
+from .loads import case_loads, opening_functionals
 from .parallel import RootPending, on_root, world_rank
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
 from .version import __version__
@@ -181,8 +181,7 @@ class Discretisation:
         metre; loads.opening_functionals: the consistent P2 integral, the
         pressure's work per unit pressure). Collective."""
         if self._openings is None:
-            from .fem.nodal_functionals import NodalFunctionals
-            from .loads import opening_functionals
+            from .fem.nodal_functionals import NodalFunctionals   # the FE layer: loaded by a run's first step
 
             self._openings = NodalFunctionals(self.problem, opening_functionals(self.cm, len(self.pressure_at(1.0))))
         return self._openings.values()

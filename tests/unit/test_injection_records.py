@@ -85,3 +85,24 @@ def test_the_breakdown_curve_is_every_kept_state_in_time_order(tmp_path):
     assert list(drawn["unstable growth (no time passes)"][0]) == [10.0]
     assert list(drawn["critical pressure of the step"][0]) == [10.0, 14.0]
     assert drawn["fracture length"][1].max() == pytest.approx(3.4)
+
+
+def test_the_checkpoint_keeps_the_pumps_state_and_refuses_a_damaged_one(tmp_path):
+    """The pump's state goes through checkpoint.npz as written; a state that
+    is not one of the case (a network without the injected fracture, a NaN
+    time) is a damaged checkpoint (a FolderError, exit 2, for --resume)."""
+    from test_case_injection import PUMPED
+    from wingcrack.case import Case
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    case = Case.from_dict(PUMPED)
+    fset = FractureSet.from_case(case)
+    steps = [dict(STEPS[0], load_factor=5e6)]
+    state = {"network": [1], "held": 1e-4, "time": 10.0, "pressure": 5e6, "closing": 4e6}
+    checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=state)
+    assert checkpoint.load(tmp_path, case)["pump"] == state
+    for bad in ({**state, "network": [0]}, {**state, "time": float("nan")}, {**state, "closing": "x"}, None):
+        checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=bad)
+        with pytest.raises(ValueError, match="damaged"):
+            checkpoint.load(tmp_path, case)

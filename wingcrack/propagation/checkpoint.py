@@ -215,7 +215,7 @@ def load(out, case) -> dict:
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
                  "fset": FractureSet(fractures, FractureSet.case_links(case)), "sizes": sizes, "history": history,
-                 "patch": _patch(meta.get("patch")), "pump": meta.get("pump")}
+                 "patch": _patch(meta.get("patch")), "pump": _pump(meta.get("pump"), case, len(fractures))}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "
@@ -237,6 +237,26 @@ def _consistent(state) -> None:
         raise ValueError(f"the load factor {lam!r} is not that of step {k}")
 
 
+def _pump(d, case, n: int):
+    """The pump's state (Pump.to_dict) of a pumped case's checkpoint,
+    checked: the network a list of fractures holding the injected one, held,
+    time and pressure finite and >= 0, closing a number or None; None for
+    a case without a pump."""
+    if case.injection is None:
+        return None
+    if not isinstance(d, dict):
+        raise ValueError(f"pump {d!r} is no pump's state")
+    net = d.get("network")
+    if not isinstance(net, list) or case.injection.fracture not in net or \
+            not all(isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n for i in net):
+        raise ValueError(f"the pump's network {net!r} is not one of these fractures")
+    for key in ("held", "time", "pressure"):
+        _coefficient(d, key)
+    if d.get("closing") is not None and not (isinstance(d["closing"], (int, float)) and math.isfinite(d["closing"])):
+        raise ValueError(f"the pump's closing pressure {d['closing']!r} is not a number")
+    return d
+
+
 def _points(p) -> np.ndarray:
     p = np.asarray(p, float)
     if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.all(np.isfinite(p)):
@@ -245,9 +265,9 @@ def _points(p) -> np.ndarray:
 
 
 def _coefficient(m: dict, name: str) -> float:
-    """A fracture's friction, cohesion or pressure: finite and >= 0, as the
-    case reader asks (a NaN would pass into the friction bound or the face
-    loads unseen)."""
+    """A fracture's friction, cohesion or pressure (or a number of the
+    pump's state): finite and >= 0, as the case reader asks (a NaN would
+    pass into the friction bound or the face loads unseen)."""
     v = m[name]
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
         raise ValueError(f"{name} {v!r} is not a finite number >= 0")

@@ -231,9 +231,6 @@ class _Run:
         self.history, self.patch = ck["history"], ck["patch"]
         self.records = [StepRecord.from_dict(s) for s in ck["steps"]]
         if self.pump is not None:
-            if ck["pump"] is None:
-                raise ValueError(f"{self.out / checkpoint.NAME} holds no pump's state; start the run again "
-                                 "without --resume (with --force)")
             self.pump.restore(ck["pump"])
 
     def begin(self, frozen):
