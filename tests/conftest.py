@@ -36,6 +36,7 @@ SLOW_FILES = {
     "tests/verification/test_injection_breakdown.py",
     "tests/verification/test_injection_prebreakdown.py",
     "tests/verification/test_injection_quasi_static.py",
+    "tests/command_line/test_injection_run.py",
 }
 #: single slow tests, by file and name (every parameter of one)
 SLOW_TESTS = {

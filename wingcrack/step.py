@@ -97,6 +97,7 @@ class Discretisation:
     pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
     far: object = None   # the far field's factorisation it used (fem.far_field.FarField), or None
     network: np.ndarray = None   # (n_fractures,) bool, load = "injection" only
+    solved_at: float | None = None   # the load factor of the last solve
     residual: np.ndarray = None   # (p,) each pair's residual aperture (m; a pumped case's pre-existing faces)
     _openings: object = field(default=None, repr=False)
 
@@ -112,7 +113,18 @@ class Discretisation:
         """Displacement at `load_factor`, with contact (the active set) on the
         faces that have it, friction as one increment from the reference slip
         (see accept); the contact result (None without rows)."""
+        self.solved_at = float(load_factor)
         return self.contact.solve(load_factor)
+
+    def solution_at(self, load_factor: float):
+        """The solution at `load_factor`: the last solve's where it was at
+        this load factor, else a new solve (the contact result). The same:
+        nothing but a solve changes the state a solve starts from, or
+        accept(), which takes the last solve's own solution, whose increment
+        to the same load is none."""
+        if self.solved_at != float(load_factor):
+            return self.solve(load_factor)
+        return self.contact.result
 
     def accept(self) -> None:
         """The current solution becomes the converged state the next solve
@@ -437,7 +449,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if case.injection is not None and case.injection.residual_aperture:
         residual = case.injection.residual_aperture * pre_existing_pairs(cm, fractures)
     return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far,
-                          None if network is None else np.asarray(network, bool), residual)
+                          network=None if network is None else np.asarray(network, bool), residual=residual)
 
 
 def floating_pieces(cm, loads, rows, pieces):

@@ -26,6 +26,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable
 
+import numpy as np
+from scipy.optimize import brentq
+
 #: the fluid balance's residual, relative to the fluid held: the volume is the integral of
 #: the FE opening, accurate to round-off (~1e-14 of it), so the root is solved far below
 #: any discretisation error and the balance can be checked to 1e-10 at every step
@@ -45,6 +48,41 @@ def density_ratio(p: float, c: float, p0: float) -> float:
 def fluid_of(volume: float, p: float, c: float, p0: float) -> float:
     """The fluid (m^3/m at rho0) that a volume `volume` holds at pressure p."""
     return volume * density_ratio(p, c, p0)
+
+
+def linear_root(trials, fluid: float, c: float, p0: float) -> float | None:
+    """The pressure at which exp(c (p - p0)) V(p) = fluid with V linear
+    through the two trials [(p, V), (p, V)] (V is linear in p while the
+    contact states hold: then the root in one solve, compressibility
+    included), or None where that line gives none (V falling, or flat and
+    the fluid not at the density that fills it)."""
+    (x1, v1), (x2, v2) = trials
+    if x1 == x2 or fluid <= 0:
+        return None
+    s = (v2 - v1) / (x2 - x1)
+    if s < 0 or (s == 0 and (c == 0 or v2 <= 0)):
+        return None
+    if c == 0:
+        return x2 + (fluid - v2) / s
+
+    def g(p):   # ln(fluid held at p) - ln(fluid): increasing where V > 0
+        v = v2 + s * (p - x2)
+        return c * (p - p0) + math.log(v) - math.log(fluid) if v > 0 else -math.inf
+
+    # a bracket about x2, widened by doubling on the side of the root; where V vanishes on the
+    # left (at x2 - v2 / s), just right of it g is far below 0
+    width = abs(x2 - x1)
+    if g(x2) < 0:
+        lo, hi = x2, x2 + width
+        while g(hi) < 0:
+            hi, width = hi + width, 2 * width
+    else:
+        lo, hi = x2 - width, x2
+        if s > 0:
+            lo = max(lo, x2 - v2 / s * (1 - 1e-12))
+        while g(lo) >= 0:
+            lo, width = lo - width, 2 * width
+    return float(brentq(g, lo, hi, xtol=1e-15 * max(abs(lo), abs(hi)), rtol=4 * np.finfo(float).eps))
 
 
 @dataclass
@@ -114,15 +152,17 @@ def balance_pressure(volume_at: Callable[[float], float], fluid: float, c: float
         if len(trials) >= MAX_TRIALS:
             raise ArithmeticError(f"the fluid balance found no pressure in {MAX_TRIALS} solves (the last at "
                                   f"{x1:.6g} Pa holds {f1 + fluid:.6g} m^3/m, {fluid:.6g} wanted)")
-        secant = -f1 * (x1 - x0) / (f1 - f0) if f1 != f0 else math.inf
         last = x1 - x0
-        s = secant if secant * last > 0 and math.isfinite(secant) else 2.0 * last
+        secant = linear_root(trials[-2:], fluid, c, p0)
+        s = secant - x1 if secant is not None and (secant - x1) * last > 0 else 2.0 * last
         s = math.copysign(min(abs(s), 100.0 * abs(last)), last)
         x0, f0, x1 = x1, f1, max(x1 + s, floor)
     lo, f_lo, hi, f_hi = (x0, f0, x1, f1) if f0 < 0 else (x1, f1, x0, f0)
     side = 0
     while len(trials) < MAX_TRIALS:
-        x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
+        x = linear_root(trials[-2:], fluid, c, p0)   # exact where the last two trials share their contact states
+        if x is None or not lo < x < hi:
+            x = hi - f_hi * (hi - lo) / (f_hi - f_lo)
         if not lo < x < hi:
             x = 0.5 * (lo + hi)
         fx = f(x)

@@ -276,7 +276,7 @@ def critical(pump: Pump, disc, fractures, keq, KIc: float, E: float, homogeneous
         return out
     p = float(crit.load_factor)
     out.unstable = p == start.pressure   # the tips at KIc at the balance (the search's root is above its start)
-    disc.solve(p)
+    disc.solution_at(p)   # the search's last trial, mostly
     v = pump.network_volume(disc, fractures)
     # unstable: the balance's state (its fluid is the held one to 1e-10: no time passes)
     t = pump.time if out.unstable else max(pump.time_of(v, p), pump.time)
@@ -315,7 +315,8 @@ def step_record(pump: Pump, step: PumpedStep, volumes: np.ndarray, groups: list,
     holds less fluid than its volume, at the pressure floor)."""
     p, v = step.pressure, step.volume
     injected = pump.schedule.injected(step.time)
-    stored = pump.fluid_of(v, p) - pump.held
+    # the fluid the volume holds at p, but all there is where the network is not full (p at the floor)
+    stored = min(pump.fluid_of(v, p), pump.held + injected) - pump.held
     nets = [{"fractures": [int(i) for i in g], "pressure": float(max(pressures[i] for i in g)),
              "volume": float(sum(volumes[i] for i in g)), "length": float(sum(lengths[i] for i in g))}
             for g in groups]

@@ -283,7 +283,7 @@ class _Run:
                 return self.pump_stopped(k, disc, grow, timer, pumped)
             self.lam, solves = pumped.pressure, pumped.solves
         progress_now.doing(f"the solve at load factor {self.lam:.6g}")
-        disc.solve(self.lam)
+        disc.solution_at(self.lam)   # the search's last trial is often at it
         timer.lap("solve")
         interrupt.check()
         progress_now.doing("the stress intensity factors")
@@ -565,7 +565,7 @@ def _keq(case, disc, fset, grow):
     def keq(load):
         trials[0] += 1
         progress_now.doing(f"the critical-load search, trial {trials[0]} at load factor {load:.6g}")
-        disc.solve(load)
+        disc.solution_at(load)   # a pump's balance may have solved at it
         KI, KII = disc.driving_sifs(case, polylines)
         th = K.mts_angle(KI[grow], KII[grow])
         k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
