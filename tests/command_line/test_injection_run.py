@@ -89,3 +89,27 @@ def test_check_prints_the_pump(capsys, tmp_path):
     out = capsys.readouterr().out
     assert "injection: into fracture 0 at (0, 0)" in out
     assert "schedule: 0.0001 m^3/s per m from 0 s to 60 s, shut-in from 60 s; the run ends at 600 s" in out
+
+
+def test_no_tip_below_the_pressure_limit_stops_there_and_says_how_far():
+    """The pump feeds a fracture that may not grow; the only growing tips are
+    a dry fracture's, 5 m away, which the pressure loads only through the
+    rock: below the limit 0.1 E no tip reaches KIc; the state at the limit is
+    recorded and the status says how far from KIc it stayed."""
+    W = 40.0
+    case = Case.from_dict({
+        "title": "out of reach", "material": {"E": E, "nu": NU, "KIc": KIC, "plane": "strain"},
+        "domain": {"shape": "rectangle", "corner": [-W / 2, -W / 2], "size": [W, W]},
+        "fractures": [{"points": [[-0.1, 0.0], [0.1, 0.0]], "grow": False},
+                      {"points": [[5.0, -0.5], [5.0, 0.5]]}],
+        "bc": [{"at": [-W / 2, -W / 2], "displacement": [0.0, 0.0]}, {"at": [W / 2, -W / 2], "displacement_y": 0.0}],
+        "mesh": {"size": 4.0, "tip_size": 0.05},
+        "propagation": {"steps": 2, "length": 0.1, "load": "injection"},
+        "injection": {"fracture": 0, "rate": Q, "compressibility": 0.0}})
+    run = wingcrack.run(case, plots=False)
+    limit = 0.1 * E
+    assert run.status.startswith(f"stopped: no tip reaches KIc below the pressure limit 0.1 E = {limit:.6g} Pa")
+    s = run.steps[-1]
+    ratio = max(t["K_eq"] for t in s["tips"] if t["fracture"] == 1) / KIC   # the tips that may grow
+    assert s["injection"]["pressure"] == limit and 0 < ratio < 1
+    assert f"(there the largest K_eq is {ratio:.3g} KIc)" in run.status
