@@ -402,7 +402,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far)
+    return Discretisation(cm, problem, contact, np.array([float(f.law.pressure) for f in fractures]), far)
 
 
 def floating_pieces(cm, loads, rows, pieces):

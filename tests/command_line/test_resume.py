@@ -362,9 +362,9 @@ def test_a_checkpoint_keeps_friction_and_cohesion(tmp_path):
     fset.fractures[0].extend(1, fset.fractures[0].points[-1] + [0.05, 0.1])   # a wing: the law is per fracture
     checkpoint.save(tmp_path, case, 0, fset, 0.5, [{"step": 0, "load_factor": 0.5}], None)
     got = checkpoint.load(tmp_path, case)["fset"].fractures
-    assert [(f.faces, f.friction, f.cohesion, f.wing_faces()) for f in got] == \
+    assert [(f.law.faces, f.law.friction, f.law.cohesion, f.law.wings().faces) for f in got] == \
         [("coulomb", 0.6, 2e5, "coulomb"), ("open", 0.0, 0.0, "open")]
-    assert all(type(f.friction) is float and type(f.cohesion) is float for f in got)
+    assert all(type(f.law.friction) is float and type(f.law.cohesion) is float for f in got)
     assert np.array_equal(got[0].points, fset.fractures[0].points) and got[0].pre == (0, 1)
 
 
@@ -380,14 +380,14 @@ def test_a_checkpoint_keeps_pressure_and_joined_to(tmp_path):
     path.write_text(path.read_text().replace('faces = "open"', 'faces = "open"\npressure = 3e5', 1))
     case = Case.from_toml(path)
     fset = FractureSet.from_case(case)
-    assert [f.pressure for f in fset.fractures] == [3e5, 0.0]
+    assert [f.law.pressure for f in fset.fractures] == [3e5, 0.0]
     fset.fractures[0].ends[1], fset.fractures[0].joined_to[1] = "joined", 1   # a wing of 0 ended on 1 as a T
     assert fset.connect_pressures()
     checkpoint.save(tmp_path, case, 0, fset, 0.5, [{"step": 0, "load_factor": 0.5}], None)
     got = checkpoint.load(tmp_path, case)["fset"].fractures
-    assert [(f.pressure, f.joined_to, f.ends) for f in got] == \
+    assert [(f.law.pressure, f.joined_to, f.ends) for f in got] == \
         [(3e5, [None, 1], ["tip", "joined"]), (3e5, [None, None], ["tip", "tip"])]
-    assert all(type(f.pressure) is float for f in got)
+    assert all(type(f.law.pressure) is float for f in got)
 
 
 def test_a_format_2_checkpoint_is_refused_naming_both(tmp_path, capsys):

@@ -42,9 +42,9 @@ def scales_with_load(case, fset) -> bool:
     m = case.material
     body = m.density * np.linalg.norm(case.body.gravity)
     load = case.propagation.load
-    fixed = load == "pressure" and (any(any(b.value) for b in case.bcs) or any(f.slip for f in fset.fractures))
+    fixed = load == "pressure" and (any(any(b.value) for b in case.bcs) or any(f.law.slip for f in fset.fractures))
     return (load in ("scale", "pressure") and not fixed and not np.any(case.stress.tensor())
-            and body == 0 and all(f.gap == 0 for f in fset.fractures))
+            and body == 0 and all(f.law.gap == 0 for f in fset.fractures))
 
 
 def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,
