@@ -23,9 +23,9 @@ class FaceLaw:
     """faces: "open" (traction free, no contact condition), "frictionless"
     (non-penetration w + gap >= 0), "slip" (non-penetration and the
     tangential jump prescribed: slip (m, at load factor 1) along the
-    fracture, shaped by slip_profile) or "coulomb" (non-penetration and
-    |t_t| <= cohesion + friction (-t_n): friction the Coulomb coefficient,
-    cohesion in Pa). gap: the initial normal gap (m). pressure: the fluid
+    fracture, shaped by slip_profile) or "coulomb" (non-penetration, and
+    the magnitude of the shear traction t_t at most cohesion + friction
+    (-t_n): friction the Coulomb coefficient, cohesion in Pa). gap: the initial normal gap (m). pressure: the fluid
     pressure (Pa, at load factor 1) pushing both faces apart on every kind
     of face. The case file's keys of the same names say more."""
 
