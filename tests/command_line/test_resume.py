@@ -368,6 +368,28 @@ def test_a_checkpoint_keeps_friction_and_cohesion(tmp_path):
     assert np.array_equal(got[0].points, fset.fractures[0].points) and got[0].pre == (0, 1)
 
 
+def test_the_face_law_keeps_the_format_4_fracture_keys(tmp_path):
+    """The checkpoint writes a fracture's face law by its field names beside
+    the other keys: the keys of format 4, so a folder written before the
+    law was one record resumes as it did. A field added to the law changes
+    them, and must change checkpoint.VERSION with them."""
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    _, case = _coulomb_case(tmp_path)
+    checkpoint.save(tmp_path, case, 0, FractureSet.from_case(case), 0.5, [{"step": 0, "load_factor": 0.5}], None)
+    with np.load(tmp_path / checkpoint.NAME) as data:
+        meta = json.loads(str(data["meta"]))
+    assert checkpoint.VERSION == meta["version"] == 4
+    assert [sorted(f) for f in meta["fractures"]] == [sorted(["pre", "ends", "faces", "gap", "slip", "slip_profile",
+                                                             "grow", "friction", "cohesion", "pressure",
+                                                             "joined_to"])] * 2
+    old = [dict(sorted(f.items())) for f in meta["fractures"]]   # another order of the same keys reads the same
+    _edit_meta(tmp_path / checkpoint.NAME, lambda m: m.update(fractures=old))
+    got = checkpoint.load(tmp_path, case)["fset"].fractures
+    assert [f.law for f in got] == [f.law for f in case.fractures]
+
+
 def test_a_checkpoint_keeps_pressure_and_joined_to(tmp_path):
     """Issue 15: a resumed run goes on with the pressures after connection
     (not the case's) and with what each joined end met, so that later
