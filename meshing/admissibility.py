@@ -1,5 +1,5 @@
 """What geometry can be meshed: the one set of rules that `wingcrack check`
-(wingcrack/case.py), the mesher (meshing/mesher.py), meshing.Domain and
+(wingcrack/case/), the mesher (meshing/mesher.py), meshing.Domain and
 the growth of tips (propagation/joining.py) share, so that what the check
 accepts the mesher meshes, and what growth makes the next mesh takes.
 
@@ -36,6 +36,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import wingcrack_kernels as K
+from scipy.spatial import cKDTree
 
 from meshing import network
 from meshing.junction_rules import (fracture_ends, ends_on_or_apart, fractures_meet, joined, joined_ends, joins,
@@ -64,19 +66,11 @@ class Rosette:
     h: float
 
 
-def _kernels():
-    """The compiled geometry kernels (loaded on first use: `import meshing`
-    must stay light)."""
-    import wingcrack_kernels
-
-    return wingcrack_kernels
-
-
 def _hits(a, b, p, q) -> np.ndarray:
     """(k,) bool: whether the segment [a, b] meets each segment [p, q] (rows
     of (k, 2)) at REL_TOL (the kernel's segment_intersection, one call)."""
     k = len(p)
-    return _kernels().segment_intersections(np.tile(a, (k, 1)), np.tile(b, (k, 1)), p, q, REL_TOL)[0]
+    return K.segment_intersections(np.tile(a, (k, 1)), np.tile(b, (k, 1)), p, q, REL_TOL)[0]
 
 
 # ---------------------------------------------------------------- the domain
@@ -95,7 +89,6 @@ def scale(size: float, offset: float, size_key: str, offset_key: str) -> Problem
 
 def polygon(pts: np.ndarray, key: str) -> Problem | None:
     """Edges of non-zero length, no two crossing or touching, a positive area, counter-clockwise."""
-    K = _kernels()
     pts = np.asarray(pts, dtype=np.float64)
     extent = float(np.ptp(pts, axis=0).max())
     tol = REL_TOL * max(extent, np.finfo(float).tiny)
@@ -158,7 +151,6 @@ def fracture(pts: np.ndarray, key: str, domain) -> Problem | None:
     to boundary), segments of non-zero length, not crossing itself (a
     polyline of three or more segments may close on itself: last point on
     the first) or the boundary."""
-    K = _kernels()
     tol = REL_TOL * float(domain.length_scale())
     far = far_outside_each(domain, pts)
     if far.any():
@@ -280,8 +272,6 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
                                 f"({short_of(dk / t.h, rk, 7)} radii) "
                                 f"from it, it needs {rk:g} radii")
     if len(tips) > 1:
-        from scipy.spatial import cKDTree
-
         pairs = cKDTree(x).query_pairs(float(rosettes_apart(h.max(), h.max())) + margin, output_type="ndarray")
         if len(pairs):
             i, j = pairs.min(axis=1), pairs.max(axis=1)
@@ -318,7 +308,6 @@ def segments_hold_rosettes(polylines, tip: float, key: str = "mesh.tip_size") ->
 
 def bc_point(p, key: str, domain, polylines) -> Problem | None:
     """A point condition's place: on the boundary, not on a fracture's mouth."""
-    K = _kernels()
     tol = REL_TOL * float(domain.length_scale())
     if far_outside(domain, p):
         return Problem(key, f"({p[0]:g}, {p[1]:g}) is not on the boundary (it is far outside the domain)")

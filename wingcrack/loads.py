@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .contact.constraints import edge_integrals
+
 
 @dataclass
 class Loads:
@@ -46,8 +48,6 @@ def face_pressure_forces(cm, pressures) -> np.ndarray:
     the + side): the pressure pushes the faces apart. The consistent P2 load
     of a constant traction, integrated on the isoparametric edge (quarter
     points included)."""
-    from .contact.constraints import edge_integrals
-
     x = np.asarray(cm.x, float)
     F = np.zeros((len(x), 2))
     p = np.asarray(pressures, float)

@@ -35,7 +35,7 @@ def launched() -> bool:
 def on_root(make):
     """make() on rank 0 (gmsh meshes there only), its result, or the error it
     raised, broadcast to every rank: all ranks go on, or all raise."""
-    from mpi4py import MPI
+    from mpi4py import MPI  # here: its import starts MPI, which `check` and world_rank never do
 
     comm = MPI.COMM_WORLD
     if comm.size == 1:
@@ -63,7 +63,7 @@ class RootPending:
     in the next collective call forever)."""
 
     def __init__(self, start):
-        from mpi4py import MPI
+        from mpi4py import MPI  # here: its import starts MPI (see on_root)
 
         self._pending, self._error = None, None
         if MPI.COMM_WORLD.rank == 0:

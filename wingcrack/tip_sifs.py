@@ -8,6 +8,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 import wingcrack_kernels as K
+from .contact.face_term import face_term
 from .fem.interaction_integral import InteractionIntegral
 from .fem.nodal import nodal_displacements
 from .material import kappa
@@ -43,9 +44,9 @@ def interaction_radius(tip, fractures, domain) -> float:
     the domain is the one layer of elements around the rosette (q = 1 on
     the ring, 0 on every vertex beyond R_OUT_ONE_LAYER h): the kink, at
     >= 1.33 h, is at most a vertex of that layer, so the crack inside it is
-    straight. Measured against displacement correlation on the 45-degree
-    disc's wings (70-degree kink): 0.2 % (KI) and 0.4 % of KI (KII); the full
-    annulus to 4 h gives 0.04 % on straight cracks."""
+    straight. Measured against displacement correlation on wings after a
+    70-degree kink: 0.2 % (KI) and 0.4 % of KI (KII); the full annulus to
+    4 h gives 0.04 % on straight cracks."""
     h = tip.h
     p = np.asarray(tip.x, float)
     others = min(R_OUT_ROSETTES * h, 0.8 * domain.distance_to_boundary(p))
@@ -72,8 +73,6 @@ def interaction_radius(tip, fractures, domain) -> float:
 
 def _face_correction(cm, tip, face_forces, r_in, r_out, shear_modulus, kap):
     """E'/2-free face term F = int t . du^a/dx1 q ds over both faces."""
-    from .contact.face_term import face_term
-
     sel = np.asarray(cm.crack_fracture) == tip.fracture
     plus = np.asarray(cm.crack_edges)[sel]
     minus = np.asarray(cm.crack_edges_minus)[sel]

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ComputationError
+from .box_qp import solve_box_qp
 
 
 @dataclass
@@ -110,8 +111,6 @@ def _bounded_least_squares(S, jump0, target, normal, history) -> ActiveSetResult
     """The contact problem as min 1/2 forces^T S forces - forces^T (target - jump0), forces >= 0
     on normal rows, free on tangential rows (its KKT conditions are the
     contact conditions), by contact.box_qp."""
-    from .box_qp import solve_box_qp
-
     lower = np.where(normal, 0.0, -np.inf)
     try:
         qp = solve_box_qp(S, target - jump0, lower, np.full(len(jump0), np.inf))

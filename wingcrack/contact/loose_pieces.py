@@ -79,8 +79,8 @@ def loose_first(P: PairProblem, max_iter, active, start, solve) -> FrictionResul
     put in the middle of its opening; None where one would then penetrate a
     face (it touches: the whole problem is solved), or where there are no
     such pieces. (Left in the whole problem, a loose piece's place is free,
-    and the semi-smooth Newton iteration wanders with it: the stimulation
-    network's pressurised block, 22 state sets without settling.) solve: the
+    and the semi-smooth Newton iteration wanders with it: a pressurised
+    block went through tens of state sets without settling.) solve: the
     friction solve itself (contact.friction.solve_friction), for the rest."""
     G, e = P.G, P.e
     if P.e_scale is None:

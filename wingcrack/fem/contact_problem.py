@@ -22,6 +22,7 @@ from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_fricti
 from .. import progress
 from ..errors import Collapse
 from .pair_operator import PairOperator
+from .pair_saddle import PairSaddle
 
 
 class ContactProblem:
@@ -36,8 +37,6 @@ class ContactProblem:
         self.rows = rows
         self.saddle = None
         if saddle and len(rows):
-            from .pair_saddle import PairSaddle
-
             self.saddle = PairSaddle(problem, rows)
         self.op = PairOperator(problem, rows) if len(rows) and self.saddle is None else None
         self.result = None

@@ -23,9 +23,11 @@ import numpy as np
 import ufl
 from dolfinx import fem
 from petsc4py import PETSc
+from scipy.spatial import cKDTree
 
 from ..material import e_prime, in_plane_strain, kappa
 from . import compiled
+from .mesh import cell_tags
 
 
 class InteractionIntegral:
@@ -86,7 +88,6 @@ class InteractionIntegral:
         self._q_x = self.Q.tabulate_dof_coordinates()[:, :2]
         # one form for every tip, made on each tip's cells (_form_near) without reading
         # its expression again; compiled with an empty cell set, as the tips' will be
-        from .mesh import cell_tags
         none = cell_tags(msh, np.zeros(0, dtype=np.int32))
         dx = ufl.Measure("dx", domain=msh, subdomain_data=none, metadata={"quadrature_degree": quadrature_degree})
         self._prepared = compiled.Prepared(integrand * dx(1), ("interaction_integral", self.kappa))
@@ -119,8 +120,6 @@ class InteractionIntegral:
         """(form, cells): the form on the cells with a vertex closer than r_out to the tip:
         elsewhere q (P1, vertex dofs) and its gradient vanish, so the
         integral over these cells alone is the integral over the mesh."""
-        from .mesh import cell_tags
-
         msh = self.problem.fm.mesh
         near = np.asarray(self._vertex_tree.query_ball_point(tip_xy, r_out), dtype=np.int64) // 3
         near = np.unique(near)
@@ -131,12 +130,8 @@ class InteractionIntegral:
     @cached_property
     def _vertex_tree(self):
         """A k-d tree of the local cells' vertices (point 3 c + i: vertex i of cell c)."""
-        from scipy.spatial import cKDTree
-
         return cKDTree(self._cell_x.reshape(-1, 2))
 
     @cached_property
     def _q_tree(self):
-        from scipy.spatial import cKDTree
-
         return cKDTree(self._q_x)

@@ -6,8 +6,8 @@ the Schur complement S_c of K on the pair dofs P that MUMPS computes during
 the factorisation ((K^-1)_PP = S_c^-1; see fem.schur), or, where that is not
 available (several processes: PETSc 3.18 offers MUMPS Schur complements on
 one process only), from K^-1 B by MUMPS multi-right-hand-side solves, one per
-pair row in effect (the contact phase then grows with pairs x DOFs; see the
-README's "Several processes").
+pair row in effect (the contact phase then grows with pairs x DOFs; see
+docs/user-guide/mpi.md).
 Either way it is built once per mesh; every active-set
 iteration, load factor or slip value is then a small dense solve, and the
 pair forces' response is one more back-substitution (none where the
@@ -22,6 +22,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 from scipy import linalg, sparse
 
+from ..errors import ComputationError
 from .solution_span import SolutionSpan
 
 
@@ -88,7 +89,6 @@ class PairOperator:
             try:
                 L = linalg.cholesky(Sc, lower=True)
             except np.linalg.LinAlgError:
-                from ..errors import ComputationError
                 raise ComputationError(_SINGULAR) from None
             W = linalg.solve_triangular(L, BP, lower=True)
             self.S = W.T @ W

@@ -18,8 +18,7 @@ every set, the lower rows change values, not places: one pattern, factorised
 by MUMPS (LU). The jumps are B^T u.
 
 The active set's first iterations change thousands of rows, its last ones a
-few (a network of 300 fractures: 10,184 rows, then 3,578, 182, 10, 8, 2
-changed): a set whose lower rows differ from the factorised set's in r rows
+few: a set whose lower rows differ from the factorised set's in r rows
 is that matrix plus a rank-r change, solved through the factorisation kept
 (the Sherman-Morrison-Woodbury formula, below) with one solve for the right-
 hand side and one for each row not changed before; the factorisation is

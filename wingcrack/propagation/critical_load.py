@@ -24,8 +24,8 @@ import numpy as np
 #: a trial whose K_eq exceeds KIc by at most this fraction of it has found the
 #: root: K_eq is computed to ~1e-15 relative, and with a slope of K_eq in the load
 #: factor above 1e-6 KIc per unit factor the root is then within the search's
-#: 1e-6 relative tolerance (the Brazilian disc with friction: the secant hit the
-#: root to 7e-16 and the bracket's other end then took 12 halvings to reach it)
+#: 1e-6 relative tolerance (without this test a secant that hits the root to
+#: round-off leaves the bracket's other end to reach it by a dozen halvings)
 AT_ROOT = 1e-12
 
 

@@ -41,8 +41,8 @@ from .joining import placement
 REACH = admissibility.TIP_CLEARANCE
 #: relative tolerance of "K_eq reached KIc". Tips that the discretisation
 #: cannot tell apart (displacement correlation is ~1e-3 accurate; the two
-#: tips of the symmetric disc differ by ~3e-5 on an unsymmetric mesh) grow
-#: together, as the symmetric physics says.
+#: tips of a point-symmetric geometry differ by ~3e-5 on a mesh that is not
+#: symmetric) grow together, as the symmetric physics says.
 KEQ_RTOL = 1e-3
 #: kink angles (rad) and advances (in propagation.length) are rounded to
 #: these grids before the geometry is built (parallel.snap: 1 and N
@@ -206,8 +206,7 @@ def clear_of_own_fracture(fset, fi: int, end: int, grown, rule: Rule, domain) ->
     included. Near its own polyline that is no join but an artefact of short
     steps: after a kink, the next step's end is about two step lengths from
     the kink point, within reach whenever the length is under 0.75 tip_size
-    (the 45-degree disc with length = tip_size / 2 sat at KIc without
-    growing). The tip goes on if its new segment crosses nothing, it stays
+    (with length = tip_size / 2 a tip would sit at KIc without growing). The tip goes on if its new segment crosses nothing, it stays
     `reach` from the boundary and every other fracture (else place_tip would
     have joined them), and the next mesh takes it: the mesher's own rules
     (meshing.admissibility.rosettes) for every free tip's rosette on the
