@@ -8,7 +8,7 @@ interaction integral needs
 t being the force per length on each face's own body, in the tip frame.
 On the faces (theta = +-pi) du^a/dx1 = -du^a/dr, with (K^a = 1)
     mode I:  du^a/dx1 = (0, -+ c / sqrt r),   mode II: (-+ c / sqrt r, 0),
-    c = (kappa + 1) / (4 mu sqrt(2 pi)),  upper sign on the upper face.
+    c = (kappa + 1) / (4 G sqrt(2 pi)),  G the shear modulus, upper sign on the upper face.
 The traction comes from the pair forces (nodal forces) through the face's
 consistent P2 mass matrix, t = M^-1 F; the integrals use the isoparametric
 map of each face edge, so on the quarter-point edges next to the tip
