@@ -180,10 +180,10 @@ def applied_loads(case, load_factor: float, pressures) -> list:
 
 
 def lame(E: float, nu: float, plane: str) -> tuple[float, float]:
-    """In-plane (lambda, mu) in Pa; plane stress: lambda = E nu / (1 - nu^2)."""
-    mu = E / (2.0 * (1.0 + nu))
-    lam = E * nu / (1.0 - nu * nu) if plane == "stress" else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-    return lam, mu
+    """In-plane Lame constants (lambda, mu) in Pa; plane stress: lambda = E nu / (1 - nu^2)."""
+    lame_mu = E / (2.0 * (1.0 + nu))
+    lame_lambda = E * nu / (1.0 - nu * nu) if plane == "stress" else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    return lame_lambda, lame_mu
 
 
 class SkfemProblem:
@@ -277,13 +277,13 @@ class SkfemProblem:
         """(K, f, prescribed dofs, their values), K sparse CSR (N/m^2 per m)."""
         case, cm = self.case, self.cm
         b, q = factors(case, self.load_factor)
-        lam, mu = lame(case.material.E, case.material.nu, case.material.plane)
+        lame_lambda, lame_mu = lame(case.material.E, case.material.nu, case.material.plane)
         sigma0 = np.asarray(case.stress.tensor(), float)[:, :, None, None]
         rho_g = case.material.density * np.asarray(case.body.gravity, float)[:, None, None]
 
         @BilinearForm
         def stiffness(u, v, w):
-            return lam * div(u) * div(v) + 2.0 * mu * ddot(sym_grad(u), sym_grad(v))
+            return lame_lambda * div(u) * div(v) + 2.0 * lame_mu * ddot(sym_grad(u), sym_grad(v))
 
         @LinearForm
         def volume(v, w):

@@ -107,12 +107,12 @@ def opening_functionals(cm, n_fractures: int):
 def case_loads(case, cm, fractures=None, network=None) -> Loads:
     """Loads on the CrackMesh `cm`; its `point_nodes` follow `case.bc_points()`.
     fractures: what was meshed (case Fracture or GrowingFracture, in mesh
-    order; default the case's), whose `pressure` loads the faces; network:
-    with load = "injection", (n_fractures,) bool, the injected network's
-    fractures (their pressure is the load factor)."""
+    order; default the case's), whose face law's pressure loads the faces;
+    network: with load = "injection", (n_fractures,) bool, the injected
+    network's fractures (their pressure is the load factor)."""
     loads = Loads()
     fractures = case.fractures if fractures is None else fractures
-    given = np.array([float(f.pressure) for f in fractures])
+    given = np.array([float(f.law.pressure) for f in fractures])
     loads.mode = case.propagation.load
     if loads.mode == "injection":
         inside = np.asarray(network, bool)

@@ -1,7 +1,8 @@
-"""Running under mpirun/srun: which rank this process is, doing a piece of
-work on rank 0 only with every rank getting its result (or its error), now
-(on_root) or begun now and collected later (RootPending), and
-rounding what gmsh is given so that any number of ranks meshes alike."""
+"""Running under mpirun/srun: which rank this process is and whether a
+launcher started it, doing a piece of work on rank 0 only with every rank
+getting its result (or its error), now (on_root) or begun now and collected
+later (RootPending), and rounding what gmsh is given so that any number of
+ranks meshes alike."""
 from __future__ import annotations
 
 import os
@@ -21,6 +22,14 @@ def world_rank() -> int:
         if value.isdigit():
             return int(value)
     return 0
+
+
+def launched() -> bool:
+    """Whether this process is one rank of a launcher's (mpirun, srun: its
+    environment names its rank, as world_rank reads it) or has started MPI
+    already: then work on a shared folder is collective (rank 0 does it,
+    every rank hears the outcome); a serial command never starts MPI for it."""
+    return "mpi4py.MPI" in sys.modules or any(os.environ.get(name, "").isdigit() for name in _RANK_VARIABLES)
 
 
 def on_root(make):

@@ -5,11 +5,10 @@ accepts the mesher meshes)."""
 from __future__ import annotations
 
 from meshing import admissibility
+from wingcrack.face_law import FACES, SLIP_PROFILES   # noqa: F401 - the face law's choices are the case's
 
 PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
-FACES = ("open", "frictionless", "slip", "coulomb")
-SLIP_PROFILES = ("uniform", "elliptic")
 LOADS = ("scale", "pressure", "fixed", "injection")
 SIFS = ("correlation", "interaction")
 #: Relative tolerance (times the domain length scale) for "on the boundary",
@@ -51,5 +50,5 @@ NOT_YET = {"injection": {"viscosity": "the fluid's viscosity", "leak_off": "a le
                          "pressure": "a given pressure at the injection point"},
            "fractures": {"hydraulic_aperture": "a fixed hydraulic aperture"}}
 #: The largest Coulomb coefficient `friction` may be: far above any measured
-#: one, and small enough that mu times a stress of 0.1 E stays finite.
+#: one, and small enough that friction times a stress of 0.1 E stays finite.
 MAX_FRICTION = 100.0

@@ -12,6 +12,7 @@ from wingcrack.case.bounds import (FACES, LOADS, MAX_COMPRESSIBILITY_E, MAX_ELEM
                                    MAX_STRAIN, MAX_TIME, MIN_TIP_FRACTION, PLANES, SIFS, SLIP_PROFILES,
                                    WATER_COMPRESSIBILITY)
 from wingcrack.case.keys import NON_NEGATIVE, POSITIVE, Limit, Range, Ref, key
+from wingcrack.face_law import FaceLaw
 
 SMALL = "beyond it strains are not small and linear elasticity fails"
 
@@ -87,6 +88,12 @@ class Fracture:
         k = min(int(np.searchsorted(s, 0.5 * s[-1], side="right")) - 1, len(seg) - 1)
         t = (0.5 * s[-1] - s[k]) / seg[k] if seg[k] > 0 else 0.0
         return self.points[k] + t * (self.points[k + 1] - self.points[k])
+
+    @property
+    def law(self) -> FaceLaw:
+        """The face law these keys give (faces, gap, slip, slip_profile,
+        friction, cohesion, pressure): the one record the run carries."""
+        return FaceLaw.of(self)
 
 
 @dataclass(frozen=True)

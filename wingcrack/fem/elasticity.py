@@ -13,6 +13,7 @@ on the rest is (fem.far_field).
 """
 from __future__ import annotations
 
+import warnings
 from functools import cached_property
 
 import numpy as np
@@ -63,9 +64,9 @@ class ElasticProblem:
         self.fm = fm
         self.cm = cm   # the CrackMesh of fm: needed only to reuse a far field (factorize)
         msh, V = fm.mesh, fm.V
-        lam, mu = lame(E, nu, plane)
-        self.lam = fem.Constant(msh, PETSc.ScalarType(lam))
-        self.mu = fem.Constant(msh, PETSc.ScalarType(mu))
+        lame_lambda, lame_mu = lame(E, nu, plane)
+        self.lame_lambda = fem.Constant(msh, PETSc.ScalarType(lame_lambda))
+        self.lame_mu = fem.Constant(msh, PETSc.ScalarType(lame_mu))
         self.load_factor = fem.Constant(msh, PETSc.ScalarType(1.0))
         self.sigma0 = fem.Constant(msh, np.asarray(loads.sigma0, dtype=PETSc.ScalarType))
         self.body = fem.Constant(msh, np.asarray(loads.body_force, dtype=PETSc.ScalarType))
@@ -232,11 +233,23 @@ class ElasticProblem:
         self.solver.setOperators(self.A)
         self.partial = False
 
+    @property
+    def lam(self):
+        """The former name of lame_lambda (deprecated)."""
+        warnings.warn("ElasticProblem.lam is deprecated: read .lame_lambda", DeprecationWarning, stacklevel=2)
+        return self.lame_lambda
+
+    @property
+    def mu(self):
+        """The former name of lame_mu, the shear modulus (deprecated)."""
+        warnings.warn("ElasticProblem.mu is deprecated: read .lame_mu", DeprecationWarning, stacklevel=2)
+        return self.lame_mu
+
     # -- physics -----------------------------------------------------------
     def stress(self, u, total: bool = True):
         """Cauchy stress of displacement u; with total=True add sigma0."""
         eps = strain(u)
-        s = self.lam * ufl.tr(eps) * ufl.Identity(2) + 2.0 * self.mu * eps
+        s = self.lame_lambda * ufl.tr(eps) * ufl.Identity(2) + 2.0 * self.lame_mu * eps
         return s + self.sigma0 if total else s
 
     def strain_energy(self) -> float:

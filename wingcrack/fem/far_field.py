@@ -125,7 +125,7 @@ def _fixed(problem) -> np.ndarray:
 def _material(problem) -> tuple:
     """What K's entries on the same cells depend on besides their nodes: the
     Lame constants (the run's material, plane stress or strain)."""
-    return float(problem.lam.value), float(problem.mu.value)
+    return float(problem.lame_lambda.value), float(problem.lame_mu.value)
 
 
 def _avoided(cm) -> np.ndarray:

@@ -41,7 +41,7 @@ class InteractionIntegral:
         self.mode = fem.Constant(msh, np.array([1.0, 0.0], dtype=PETSc.ScalarType))
         self.eps0 = fem.Constant(msh, in_plane_strain(np.asarray(sigma0, float), E, nu, plane).astype(PETSc.ScalarType))
         self.kappa = kappa(nu, plane)
-        lam, mu = problem.lam, problem.mu
+        lame_lambda, lame_mu = problem.lame_lambda, problem.lame_mu
         kap = self.kappa
 
         x = ufl.SpatialCoordinate(msh)
@@ -52,7 +52,7 @@ class InteractionIntegral:
         c, s = ufl.cos(th / 2), ufl.sin(th / 2)
         c3, s3 = ufl.cos(3 * th / 2), ufl.sin(3 * th / 2)
         f = 1.0 / ufl.sqrt(2.0 * np.pi * r)
-        g = ufl.sqrt(r / (2.0 * np.pi)) / (2.0 * mu)
+        g = ufl.sqrt(r / (2.0 * np.pi)) / (2.0 * lame_mu)
         kI, kII = self.mode[0], self.mode[1]
         s11 = kI * f * c * (1 - s * s3) - kII * f * s * (2 + c * c3)
         s22 = kI * f * c * (1 + s * s3) + kII * f * s * c * c3
@@ -64,7 +64,7 @@ class InteractionIntegral:
         ])
         # d u_a / dX = d u_a / dx . dx/dX, with x = tip + R^T X
         du_a = ufl.dot(ufl.grad(u_a), R.T)
-        eps_a = (sig_a - lam * ufl.tr(sig_a) / (2 * lam + 2 * mu) * ufl.Identity(2)) / (2 * mu)
+        eps_a = (sig_a - lame_lambda * ufl.tr(sig_a) / (2 * lame_lambda + 2 * lame_mu) * ufl.Identity(2)) / (2 * lame_mu)
 
         u = problem.u_function   # its values read on each tip's cells (sifs: ElasticProblem.u_at)
         grad_u = ufl.grad(u) + self.eps0                      # total, global frame

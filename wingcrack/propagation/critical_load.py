@@ -45,11 +45,11 @@ def scales_with_load(case, fset, network=None) -> bool:
     body = m.density * np.linalg.norm(case.body.gravity)
     load = case.propagation.load
     fixed = load in ("pressure", "injection") and (any(any(b.value) for b in case.bcs)
-                                                   or any(f.slip for f in fset.fractures))
+                                                   or any(f.law.slip for f in fset.fractures))
     if load == "injection":
-        fixed = fixed or any(f.pressure for f, inside in zip(fset.fractures, network) if not inside)
+        fixed = fixed or any(f.law.pressure for f, inside in zip(fset.fractures, network) if not inside)
     return (load in ("scale", "pressure", "injection") and not fixed and not np.any(case.stress.tensor())
-            and body == 0 and all(f.gap == 0 for f in fset.fractures))
+            and body == 0 and all(f.law.gap == 0 for f in fset.fractures))
 
 
 def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,

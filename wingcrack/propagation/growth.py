@@ -215,10 +215,10 @@ def clear_of_own_fracture(fset, fi: int, end: int, grown, rule: Rule, domain) ->
     p, a = grown[-1], grown[-2]
     if not domain.contains(p) or domain.distance_to_boundary(p) <= rule.reach:
         return False
-    for s in range(len(grown) - 3):     # the new segment crosses none of the earlier ones
-        hit, _, _, _ = K.segment_intersection(a, p, grown[s], grown[s + 1], 1e-12)
-        if hit:
-            return False
+    earlier = max(len(grown) - 3, 0)     # the new segment crosses none of the earlier ones
+    if K.segment_intersections(np.tile(a, (earlier, 1)), np.tile(p, (earlier, 1)), grown[:earlier],
+                               grown[1:earlier + 1], 1e-12)[0].any():
+        return False
     polylines, tips = [], []
     for g, other in enumerate(fset.fractures):
         if g == fi:
@@ -276,11 +276,11 @@ def crossing_pair(polys, pre=None):
             return (index[k] >= first[owner[k]]) & (index[k] + 1 <= last[owner[k]])
         keep &= ~(is_pre(i) & is_pre(j))
     i, j = i[keep], j[keep]
-    for k in np.lexsort((index[j], index[i], owner[j], owner[i])):
-        hit, t, u, _ = K.segment_intersection(a[i[k]], b[i[k]], a[j[k]], b[j[k]], 1e-12)
-        if hit and 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9:
-            return int(owner[i[k]]), int(owner[j[k]])
-    return None
+    order = np.lexsort((index[j], index[i], owner[j], owner[i]))
+    i, j = i[order], j[order]
+    hit, t, u, _ = K.segment_intersections(a[i], b[i], a[j], b[j], 1e-12)
+    crossed = np.flatnonzero(hit & (1e-9 < t) & (t < 1 - 1e-9) & (1e-9 < u) & (u < 1 - 1e-9))
+    return (int(owner[i[crossed[0]]]), int(owner[j[crossed[0]]])) if len(crossed) else None
 
 
 def check_no_crossing(fset) -> None:

@@ -34,6 +34,7 @@ history (`history`), which history.png draws against time.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -121,7 +122,8 @@ class Pump:
         out = np.zeros(len(fractures))
         for i, f in enumerate(fractures):
             pre = _length(getattr(f, "pre_points", f.points))   # a case Fracture is all pre-existing
-            out[i] = (f.gap if f.faces != "open" else 0.0) * pre + self.residual_aperture * pre
+            law = f.law
+            out[i] = (law.gap if law.faces != "open" else 0.0) * pre + self.residual_aperture * pre
         return out
 
     def network_volume(self, disc, fractures) -> float:
@@ -196,7 +198,8 @@ class Pump:
         self.held += sum(self.fluid_of(volumes[j], pressures[j]) for j in new if pressures[j] > 0)
         self.network = sorted(set(self.network) | set(new))
         for j in self.network:   # what the checkpoint and the summary show for them: the network's
-            fset.fractures[j].pressure = float(self.pressure)
+            f = fset.fractures[j]
+            f.law = dataclasses.replace(f.law, pressure=float(self.pressure))
         return new
 
     def groups(self, fset) -> list:
