@@ -107,3 +107,22 @@ class KGDToughness:
         while self.time(hi) < t:
             hi *= 2
         return brentq(lambda l: self.time(l) - t, lo, hi, xtol=1e-15 * hi, rtol=1e-15)
+
+
+def diffusion_step(x, t, alpha, dp):
+    """The pressure rise along an infinite conduit whose pressure is raised
+    by dp at x = 0 at t = 0: dp erfc(|x| / sqrt(4 alpha t)), alpha the
+    hydraulic diffusivity (Carslaw & Jaeger, Conduction of Heat in Solids,
+    2nd ed., 1959, sec. 2.4; for a fault of fixed hydraulic aperture w_h,
+    alpha = w_h^2 / (12 eta c_f))."""
+    from scipy.special import erfc
+
+    return dp * erfc(np.abs(np.asarray(x, float)) / np.sqrt(4.0 * alpha * t))
+
+
+def diffusion_flux(t, alpha, conductivity, q):
+    """The pressure rise at the end x = 0 of a half-infinite conduit fed the
+    volume flux q (m^2/s) from t = 0: (2 q / k) sqrt(alpha t / pi), k the
+    conductivity w_h^3 / (12 eta) (Carslaw & Jaeger, sec. 2.9: a constant
+    flux into a semi-infinite solid)."""
+    return 2.0 * q / conductivity * np.sqrt(alpha * np.asarray(t, float) / np.pi)

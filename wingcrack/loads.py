@@ -8,6 +8,7 @@ import numpy as np
 from scipy import sparse
 
 from .contact.constraints import edge_integrals
+from .flow.network import edge_normals
 
 
 @dataclass
@@ -85,14 +86,7 @@ def opening_functionals(cm, n_fractures: int):
         return sparse.csr_matrix(size)
     minus = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
     fracture = np.asarray(cm.crack_fracture, dtype=np.int64)
-    d = x[plus[:, 1]] - x[plus[:, 0]]
-    n = np.c_[-d[:, 1], d[:, 0]] / np.linalg.norm(d, axis=1)[:, None]
-    # orient each edge's normal as the pair normal of its mid node (a mid node is never a tip)
-    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
-    pn = np.asarray(cm.pair_normal, float).reshape(-1, 2)
-    order = np.argsort(pairs[:, 0])
-    ref = pn[order[np.searchsorted(pairs[order, 0], plus[:, 2])]]
-    n *= np.sign(np.sum(n * ref, axis=1))[:, None]
+    n = edge_normals(cm)
     w = edge_integrals(x, plus)                               # (k, 3) int N_i ds
     rows, vals = [], []
     for side, edges in ((1.0, plus), (-1.0, minus)):

@@ -1,0 +1,349 @@
+"""Lubrication flow of a compressible fluid in the faces' network
+(network.FlowNetwork), one backward-Euler time step at a time.
+
+Mass conservation along the faces, with the cubic law for the flux
+(volumes per metre of thickness, fluid counted as its volume at the
+reference density rho0, that of the reference pressure p0):
+
+    d(rho a)/dt + d(rho q)/ds = rho0 (source - leak-off),
+    q = -k dp/ds,   k = w_h^3 / (12 eta),   rho = rho0 exp(c (p - p0)).
+
+a is the storage aperture (the normal opening w = [u].n plus the constant
+aperture of the faces: the gap of contact faces and the residual aperture,
+or a fracture's fixed `hydraulic_aperture` in its place), w_h the hydraulic
+aperture (w + the constant one, or the fixed one: a conduit whose
+permeability does not change with slip or opening). Discretised on the
+network's P1 hats phi_i (network.py):
+
+    m_i = rho(p_i) V_i,   V_i = int phi_i a ds                 (the fluid at node i)
+    R_i = m_i - m_i^n + dt sum_s +-rho_s c_s (p_a - p_b) + L_i - S_i = 0
+    c_s = int_s k ds / h_s^2,   rho_s = (rho_a + rho_b) / 2        (segment s = [a, b], length h_s)
+
+S_i the source over the step (a rate: the pumped volume of the schedule
+over the step, exact; a pressure given at the point: the multiplier of the
+constraint sum_i phi_i(x0) p_i = p_given), L_i Carter's leak-off over the
+step, 2 C_L (sqrt(t - t_e) - sqrt(t^n - t_e)) int phi_i ds at the density of
+p_i (both faces; t_e the time node i first held fluid). The rows sum to
+m - m^n + leaked - injected: the fluid balance holds to the Newton
+residual (solved to RTOL of the fluid), not to the discretisation error.
+A node whose faces neither store (no aperture, an incompressible fluid)
+nor conduct holds its pressure: it is dry (a closed wing's inside, where no
+fluid goes).
+
+The openings come from the mechanics (`Mechanics`): `openings(p)` solves
+the faces at the pressure field p and returns w at every edge node, and
+`derivative()` dw/dp at that solve (None: the faces do not move with the
+pressure). Newton's method on p uses it in the storage term and in the
+conductances (full Newton where the derivative is exact: open faces and a
+contact state set that holds), with a backtracking line search on the
+residual where a change of the contact state makes the step overshoot.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse import linalg as splinalg
+
+from .network import FlowNetwork
+
+#: Newton's residual, relative to the fluid that moves in the step: far below any discretisation
+#: error, and the fluid balance of the totals (a sum of the residuals over the nodes and the steps)
+#: well inside the 1e-8 the run promises
+RTOL = 1e-13
+#: the most Newton iterations of one time step
+MAX_ITERATIONS = 60
+#: halvings of a Newton step whose residual does not fall
+MAX_HALVINGS = 12
+
+
+@dataclass(frozen=True)
+class Fluid:
+    """viscosity eta (Pa s), compressibility c (1/Pa), the reference pressure
+    p0 of the density law (Pa), Carter's leak-off coefficient C_L (m/s^0.5)."""
+    viscosity: float
+    compressibility: float = 0.0
+    reference_pressure: float = 0.0
+    leak_off: float = 0.0
+
+    def density(self, p) -> np.ndarray:
+        """rho(p) / rho0."""
+        return np.exp(self.compressibility * (np.asarray(p, float) - self.reference_pressure))
+
+
+@dataclass
+class FlowState:
+    """The fluid at a time: the pressure p (n,) (Pa), the fluid m (n,) each
+    node holds (m^2 per metre at rho0), the totals injected and leaked since
+    the start (m^2 per metre), and the time each node first held fluid
+    (Carter's exposure time, s)."""
+    time: float
+    pressure: np.ndarray
+    fluid: np.ndarray
+    injected: float = 0.0
+    leaked: float = 0.0
+    exposed: np.ndarray = None
+    initial: float = None   # the fluid held at the start (sum of m)
+
+    def __post_init__(self):
+        if self.exposed is None:
+            self.exposed = np.full(len(self.pressure), self.time)
+        if self.initial is None:
+            self.initial = float(np.sum(self.fluid))
+
+    @property
+    def stored(self) -> float:
+        """The fluid the network holds beyond what it held at the start."""
+        return float(np.sum(self.fluid)) - self.initial
+
+    def imbalance(self) -> float:
+        """injected - stored - leaked, relative to all the fluid there was
+        (held at the start and injected since): the fluid held is a sum over
+        the nodes, whose round-off is that fraction of it."""
+        scale = max(abs(self.initial) + abs(self.injected), 1e-300)
+        return (self.injected - self.stored - self.leaked) / scale
+
+
+class RigidFaces:
+    """Faces that do not move with the pressure: a fixed opening (k, 3)."""
+
+    def __init__(self, opening):
+        self.w = np.asarray(opening, float)
+
+    def openings(self, p) -> np.ndarray:
+        return self.w
+
+    def derivative(self):
+        return None
+
+
+@dataclass
+class Source:
+    """Where and how the fluid enters over a step: weights (n,) the hats at
+    the injection point; either `volume`, the fluid the pump delivers over
+    the step (m^2/m at rho0), or `pressure`, the pressure held there (Pa)."""
+    weights: np.ndarray
+    volume: float | None = None
+    pressure: float | None = None
+
+
+@dataclass
+class StepInfo:
+    iterations: int = 0
+    residual: float = 0.0
+    halvings: int = 0
+    dry: int = 0
+
+
+class Lubrication:
+    """The discrete flow on `network` (module doc). constant (k, 3): the
+    constant part of the storage aperture at each edge node (m: the gap and
+    residual aperture, or the fixed hydraulic aperture of a conduit);
+    hydraulic (k,): a conduit edge's fixed hydraulic aperture (m), NaN on
+    the others (their hydraulic aperture is the storage aperture)."""
+
+    def __init__(self, network: FlowNetwork, fluid: Fluid, constant=None, hydraulic=None):
+        self.net, self.fluid = network, fluid
+        k = network.num_edges
+        self.constant = np.zeros((k, 3)) if constant is None else np.asarray(constant, float).reshape(k, 3)
+        self.hydraulic = np.full(k, np.nan) if hydraulic is None else np.asarray(hydraulic, float).reshape(k)
+        self.Phi = network.volume_matrix()
+        self.lengths = network.tributary()
+        conduit = np.repeat(np.isfinite(self.hydraulic), 2)   # per segment
+        self._conduit = conduit
+        seg_h = np.repeat(np.nan_to_num(self.hydraulic), 2)
+        self._conduit_c = np.where(conduit, seg_h ** 3 / (12 * fluid.viscosity) / network.length, 0.0)
+        s = network.segments
+        n = network.num_nodes
+        # the segments' incidence: (n, 2k), +1 at a segment's first node, -1 at its second
+        self._G = sparse.csr_matrix((np.r_[np.ones(len(s)), -np.ones(len(s))],
+                                     (np.r_[s[:, 0], s[:, 1]], np.r_[np.arange(len(s)), np.arange(len(s))])),
+                                    shape=(n, len(s)))
+
+    # ---- the fields of an opening
+
+    def volumes(self, w) -> np.ndarray:
+        """(n,) V_i = int phi_i a ds, a = w + the constant aperture."""
+        return self.Phi @ (np.asarray(w, float).reshape(-1, 3) + self.constant).ravel()
+
+    def _apertures_q(self, w) -> np.ndarray:
+        """(2k, q) the hydraulic aperture at the quadrature points (>= 0)."""
+        return np.maximum(self.net.at_quadrature(np.asarray(w, float).reshape(-1, 3) + self.constant), 0.0)
+
+    def conductances(self, w) -> np.ndarray:
+        """(2k,) c_s = int_s k ds / h_s^2 (m^2 / (Pa s) per m^2... : the flux
+        (m^2/s) through segment s is c_s h_s (p_a - p_b))."""
+        a = self._apertures_q(w)
+        c = np.einsum("sq,sq->s", a ** 3, self.net.ds) / (12 * self.fluid.viscosity) / self.net.length ** 2
+        return np.where(self._conduit, self._conduit_c, c)
+
+    def conductance_derivative(self, w) -> sparse.csr_matrix:
+        """(2k, 3k) d c_s / d w at the edge nodes (0 on conduits)."""
+        a = self._apertures_q(w)
+        d = 3 * a ** 2 * self.net.ds / (12 * self.fluid.viscosity) / self.net.length[:, None] ** 2   # (2k, q)
+        vals = np.einsum("sq,sqm->sm", d, self.net.shape)
+        vals[self._conduit] = 0.0
+        k = self.net.num_edges
+        rows = np.repeat(np.arange(2 * k), 3)
+        cols = (3 * np.repeat(np.arange(k), 2)[:, None] + np.arange(3)).ravel()
+        return sparse.csr_matrix((vals.ravel(), (rows, cols)), shape=(2 * k, 3 * k))
+
+    def fluxes(self, p, w) -> np.ndarray:
+        """(2k,) the volume flux q (m^2/s, along the segment's direction) of
+        each segment: c_s h_s (p_a - p_b)."""
+        p = np.asarray(p, float)
+        s = self.net.segments
+        return self.conductances(w) * self.net.length * (p[s[:, 0]] - p[s[:, 1]])
+
+    def fluid_of(self, p, w) -> np.ndarray:
+        """(n,) the fluid m_i = rho(p_i)/rho0 V_i each node holds."""
+        return self.fluid.density(p) * self.volumes(w)
+
+    def initial_state(self, p0, w, time: float = 0.0, exposed=None) -> FlowState:
+        """The state at pressure p0 (a number or (n,)) on the opening w."""
+        p = np.broadcast_to(np.asarray(p0, float), (self.net.num_nodes,)).copy()
+        return FlowState(float(time), p, self.fluid_of(p, w), exposed=exposed)
+
+    # ---- leak-off
+
+    def _carter(self, state: FlowState, t1: float) -> np.ndarray:
+        """(n,) Carter's leak-off volume over [t0, t1] at each node (m^2/m at the node's density)."""
+        cl = self.fluid.leak_off
+        if not cl:
+            return np.zeros(self.net.num_nodes)
+        e = state.exposed
+        t0 = state.time
+        after = np.sqrt(np.maximum(t1 - e, 0.0)) - np.sqrt(np.maximum(t0 - e, 0.0))
+        return 2.0 * cl * after * self.lengths
+
+    # ---- the step
+
+    def step(self, state: FlowState, t1: float, source: Source, mechanics=None,
+             rtol: float = RTOL) -> tuple[FlowState, StepInfo]:
+        """The state at t1 > state.time: backward Euler, Newton on p from
+        state.pressure. mechanics: openings(p) and derivative() (module doc;
+        RigidFaces for faces that do not move). The mechanics is left solved
+        at the returned pressure."""
+        net, fl = self.net, self.fluid
+        mechanics = RigidFaces(np.zeros((net.num_edges, 3))) if mechanics is None else mechanics
+        n = net.num_nodes
+        dt = float(t1) - state.time
+        if not dt > 0:
+            raise ValueError(f"a time step must go forward (from {state.time:g} s to {t1:g} s)")
+        carter = self._carter(state, t1)
+        given = source.pressure is not None
+        wts = np.asarray(source.weights, float)
+        p = state.pressure.copy()
+        if given:   # start from a field that meets the constraint
+            p += (source.pressure - wts @ p) / np.sum(wts)
+        m_old = state.fluid
+        # the residual's scale: the fluid that moves in the step (the inflow, the leak-off, the change of
+        # the fluid held), floored at the round-off of the fluid held, so that the balance of the totals
+        # holds to RTOL of what came and went, however much the network held before
+        floor = 64 * np.finfo(float).eps * float(np.max(np.abs(m_old), initial=0.0))
+        info = StepInfo()
+        seg = net.segments
+
+        def evaluate(p):
+            w = mechanics.openings(p)
+            rho = fl.density(p)
+            V = self.volumes(w)
+            c = self.conductances(w)
+            rho_s = 0.5 * (rho[seg[:, 0]] + rho[seg[:, 1]])
+            dp = p[seg[:, 0]] - p[seg[:, 1]]
+            F = rho_s * c * dp
+            R = rho * V - m_old + dt * (self._G @ F) + rho * carter
+            if not given:
+                R = R - wts * source.volume
+            return R, (w, rho, V, c, rho_s, dp)
+
+        def residual_norm(R, lam=0.0):
+            r = R - wts * lam if given else R
+            return float(np.max(np.abs(r)))
+
+        R, parts = evaluate(p)
+        lam = 0.0
+        if given:   # the multiplier that best balances the first residual: the source's least squares
+            lam = float(wts @ R / (wts @ wts))
+        norm = residual_norm(R, lam)
+        while True:
+            w, rho, V, c, rho_s, dp = parts
+            moved = max(abs(lam) if given else abs(source.volume), float(np.sum(rho * carter)),
+                        float(np.max(np.abs(rho * V - m_old), initial=0.0)))
+            scale = max(moved, floor, 1e-300)
+            tol = max(rtol * moved, floor)
+            if norm <= tol and info.iterations > 0 or norm == 0.0:
+                break
+            if info.iterations >= MAX_ITERATIONS:
+                raise ArithmeticError(f"the flow's Newton iteration did not converge in {MAX_ITERATIONS} "
+                                      f"iterations (residual {norm / scale:.3g} of the fluid)")
+            info.iterations += 1
+            J, dry = self._jacobian(mechanics, w, rho, V, c, rho_s, dp, dt, carter, p)
+            info.dry = int(np.sum(dry))
+            r = R - wts * lam if given else R.copy()
+            r[dry] = 0.0
+            if given:
+                A = sparse.bmat([[J, -sparse.csr_matrix(wts[:, None])], [sparse.csr_matrix(wts[None, :]), None]],
+                                format="csc") if sparse.issparse(J) else \
+                    np.block([[J, -wts[:, None]], [wts[None, :], np.zeros((1, 1))]])
+                rhs = np.r_[-r, source.pressure - wts @ p]
+            else:
+                A, rhs = (J.tocsc() if sparse.issparse(J) else J), -r
+            x = splinalg.spsolve(A, rhs) if sparse.issparse(A) else np.linalg.solve(A, rhs)
+            dp_, dlam = (x[:n], x[n]) if given else (x, 0.0)
+            # backtracking: the full step unless the residual grows (a contact state changed on the way)
+            step = 1.0
+            for _ in range(MAX_HALVINGS + 1):
+                p_try, lam_try = p + step * dp_, lam + step * dlam
+                R_try, parts_try = evaluate(p_try)
+                norm_try = residual_norm(R_try, lam_try)
+                if norm_try < norm or norm_try <= tol:
+                    break
+                step *= 0.5
+                info.halvings += 1
+            p, lam, R, parts, norm = p_try, lam_try, R_try, parts_try, norm_try
+        w, rho, V, c, rho_s, dp = parts   # the mechanics' last solve was at p (the accepted trial)
+        m = rho * V
+        injected = lam if given else float(source.volume)
+        leaked = float(np.sum(rho * carter))
+        exposed = state.exposed.copy()
+        info.residual = norm / max(scale, 1e-300)
+        out = FlowState(float(t1), p, m, state.injected + injected, state.leaked + leaked, exposed, state.initial)
+        return out, info
+
+    def _jacobian(self, mechanics, w, rho, V, c, rho_s, dp, dt, carter, p):
+        """dR/dp (sparse, or dense where the mechanics has a derivative) and
+        the dry nodes (a zero row: neither storage nor conductance)."""
+        fl, net = self.fluid, self.net
+        seg = net.segments
+        cf = fl.compressibility
+        k_s = len(seg)
+        # d F_s / d p_a, d p_b
+        dFa = rho_s * c + 0.5 * cf * rho[seg[:, 0]] * c * dp
+        dFb = -rho_s * c + 0.5 * cf * rho[seg[:, 1]] * c * dp
+        dF = sparse.csr_matrix((np.r_[dFa, dFb], (np.r_[np.arange(k_s), np.arange(k_s)], np.r_[seg[:, 0], seg[:, 1]])),
+                               shape=(k_s, net.num_nodes))
+        J = sparse.diags(cf * rho * (V + carter)) + dt * (self._G @ dF)
+        W = mechanics.derivative()
+        if W is not None:   # the faces move with p: the storage's and the conductances' share
+            W = np.asarray(W, float)
+            dc = self.conductance_derivative(w)
+            J = J.toarray() + rho[:, None] * (self.Phi @ W) + dt * (self._G @ sparse.diags(rho_s * dp) @ dc @ W)
+            diag = np.abs(np.diag(J))
+            off = np.abs(J).sum(axis=1) - diag
+        else:
+            J = J.tocsr()
+            diag = np.abs(J.diagonal())
+            off = np.asarray(abs(J).sum(axis=1)).ravel() - diag
+        big = max(float(np.max(diag + off, initial=0.0)), 1e-300)
+        dry = (diag + off) <= 1e-14 * big
+        if np.any(dry):   # hold their pressure: dp = 0
+            if sparse.issparse(J):
+                keep = sparse.diags((~dry).astype(float))
+                J = (keep @ J + sparse.diags(dry.astype(float))).tocsr()
+            else:
+                J[dry] = 0.0
+                J[dry, dry] = 1.0
+        return J, dry
