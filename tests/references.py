@@ -126,3 +126,25 @@ def diffusion_flux(t, alpha, conductivity, q):
     conductivity w_h^3 / (12 eta) (Carslaw & Jaeger, sec. 2.9: a constant
     flux into a semi-infinite solid)."""
     return 2.0 * q / conductivity * np.sqrt(alpha * np.asarray(t, float) / np.pi)
+
+
+def fluid_driven_slip_front(T: float) -> float:
+    """lambda of the slip front a(t) = lambda sqrt(4 alpha t) of a planar
+    Coulomb fault (friction f, effective normal stress sigma', initial
+    shear tau0 < f sigma') whose pore pressure is raised by dp at x = 0 at
+    t = 0 and diffuses as dp erfc(|x| / sqrt(4 alpha t)) (Bhattacharya &
+    Viesca, Science 364:464, 2019; Viesca, JFM 2021, the plane-strain case):
+    the root of T = (f sigma' - tau0) / (f dp) = (2/pi) int_0^1
+    erfc(lambda s) / sqrt(1 - s^2) ds. The condition is that of a shear
+    crack |x| < a loaded by the stress drop tau0 - f (sigma' - p(x)), whose
+    stress intensity vanishes at the front (the friction bound is reached
+    there without a singularity): int_0^a drop(x) / sqrt(a^2 - x^2) dx = 0.
+    Integrated in s = sin(theta), smooth on [0, pi/2]."""
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+    from scipy.special import erfc
+
+    def t_of(lam):
+        return 2.0 / np.pi * quad(lambda th: erfc(lam * np.sin(th)), 0.0, np.pi / 2, epsabs=1e-14, epsrel=1e-13)[0]
+
+    return brentq(lambda lam: t_of(lam) - T, 1e-10, 1e3, xtol=1e-14, rtol=1e-13)

@@ -100,21 +100,31 @@ class ContactProblem:
         p.solve(load_factor, expand=False)   # u on a far interior when it is read (ElasticProblem.expand)
         if self.op is None:
             return None
-        rows = self.rows
         u = p.u_at(self.op.blocks)   # the pair dofs, outside a far interior (u there may be deferred)
         jump0 = self.op.jumps(u.vector.getArray())
-        slip = rows.slip * p.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
-        target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
         rigid = None if self.floating is None else Rigid(self.G, *self._generalised_loads())
+        res = self.solve_pairs(jump0, load_factor, active, rigid)
+        self.op.add_forces(u, res.forces)
+        if rigid is not None:
+            self._add_rigid(u, res.alpha)
+        return res
+
+    def solve_pairs(self, jump0, load_factor: float = 1.0, active=None, rigid=None):
+        """The contact/friction state on the dense pair system for the
+        unconstrained jumps `jump0` (the rows' jumps without pair forces) at
+        `load_factor` (what scales the prescribed slip), one increment from
+        the reference slip: the result (the displacement is not updated; a
+        caller that knows jump0's loads, fem.coupled_faces, solves on the
+        faces alone)."""
+        rows = self.rows
+        slip = rows.slip * self.problem.loads.bc_factor(load_factor)   # not scaled when the load is the pressure
+        target = np.where(rows.normal, -rows.gap, np.where(rows.coulomb, self.reference, slip))
         progress.doing(f"contact at load factor {load_factor:.6g}: {len(rows)} pair rows")
         try:
             res = solve_friction(self.op.S, jump0, target, rows.normal, rows.friction_law(), active=active,
                                  start=self.result, rigid=rigid)   # the last solve's states: the next trial's start
         except Mechanism as err:
             raise Collapse(self.floating.describe(err.residual, rows, err.closed)) from None
-        self.op.add_forces(u, res.forces)
-        if rigid is not None:
-            self._add_rigid(u, res.alpha)
         self.result = res
         return res
 

@@ -305,6 +305,14 @@ class ElasticProblem:
         self.b_gauge = np.zeros(len(gauge))
         return bcs, values
 
+    def set_face_forces(self, forces) -> None:
+        """The fluid's forces on the faces that the load factor multiplies
+        (n_nodes, 2), N/m, from now on (Loads.face_forces): a pressure field
+        that changes from solve to solve (the flow along the fractures). The
+        kept solutions stay valid: the matrix is the same."""
+        self.loads.face_forces = np.asarray(forces, float)
+        self._face_dofs, self._face_values = self._locate_face_forces(self.loads.face_forces)
+
     def _locate_face_forces(self, forces):
         """(owned local scalar dofs, values) of the pressure's nodal forces
         (n_nodes, 2) at factor 1 (on the owning rank only)."""

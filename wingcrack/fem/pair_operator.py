@@ -7,7 +7,7 @@ the factorisation ((K^-1)_PP = S_c^-1; see fem.schur), or, where that is not
 available (several processes: PETSc 3.18 offers MUMPS Schur complements on
 one process only), from K^-1 B by MUMPS multi-right-hand-side solves, one per
 pair row in effect (the contact phase then grows with pairs x DOFs; see
-docs/user-guide/mpi.md).
+docs/user-guide/mpi.md): fem.compliance.
 Either way it is built once per mesh; every active-set
 iteration, load factor or slip value is then a small dense solve, and the
 pair forces' response is one more back-substitution (none where the
@@ -18,18 +18,12 @@ kept for measuring jumps.
 from __future__ import annotations
 
 import numpy as np
-from mpi4py import MPI
-from petsc4py import PETSc
-from scipy import linalg, sparse
+from scipy import sparse
 
-from ..errors import ComputationError
+from .compliance import compliance, free_rows
 from .solution_span import SolutionSpan
 
 
-BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-RHS solve (160 MB)
-#: MUMPS ICNTL(27), right-hand sides treated together in the solve phase
-#: (the value that solved fastest in the benchmarks of several processes)
-RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
 #: pair-force responses K^-1 B forces kept for forces in their span (fem.solution_span): the
 #: contact forces of a problem linear in its load are proportional to the load
@@ -42,8 +36,6 @@ SPAN = 2
 #: tests/unit/test_solve_span.py), above the 1e-14 that assembled right-hand sides meet;
 #: a residual within that round-off changes the response no more than the forces' own error does
 SPAN_TOLERANCE = 1e-12
-_SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
-             "boundary condition holds")
 
 
 class PairOperator:
@@ -71,60 +63,13 @@ class PairOperator:
         B = sparse.csr_matrix((cat(val), (cat(dof_i).astype(np.int64), cat(col_j).astype(np.int64))),
                               shape=(self.n_owned, m))
         self.B = B
-        fixed = np.zeros(self.n_owned, dtype=bool)
-        for bc in problem.bcs:
-            dofs, _ = bc.dof_indices()
-            dofs = np.asarray(dofs)
-            fixed[dofs[dofs < self.n_owned]] = True
-        self.B_free = sparse.diags((~fixed).astype(float)) @ B
+        self.B_free = free_rows(problem, B)
         self.blocks = np.unique(np.r_[fm.block_dofs(rows.plus)[1], fm.block_dofs(rows.minus)[1]])
         self.blocks = self.blocks[self.blocks >= 0]   # the local block dofs of the pair nodes
-        self.Z = None
         self._responses = SolutionSpan(m, self.n_owned, SPAN, comm, SPAN_TOLERANCE)   # earlier forces and K^-1 B forces
-        if getattr(problem, "schur_dofs", None) is not None:
-            P = problem.schur_dofs
-            Sc = problem.schur_complement()
-            BP = self.B_free[P].toarray()
-            # Sc is SPD: S = W^T W with W = L^-1 B_P, Sc = L L^T (symmetric by construction)
-            try:
-                L = linalg.cholesky(Sc, lower=True)
-            except np.linalg.LinAlgError:
-                raise ComputationError(_SINGULAR) from None
-            W = linalg.solve_triangular(L, BP, lower=True)
-            self.S = W.T @ W
-            return
-
-        # S = B^T K^-1 B by MUMPS multi-right-hand-side solves on dense
-        # blocks of B's columns (a parallel MUMPS takes a distributed dense
-        # right-hand side; its sparse one must sit on one process). Z = K^-1 B
-        # is kept for the pair-force response when it is small, otherwise
-        # that response is one more solve.
-        if not problem._factored:
-            problem.factorize()
-        F = problem.solver.getPC().getFactorMatrix()
-        F.setMumpsIcntl(27, RHS_BLOCKING)
-        biggest = comm.allreduce(self.n_owned, op=MPI.MAX)
-        keep = biggest * m <= Z_KEEP   # the same choice on every process (add_forces is collective)
-        block = max(1, BLOCK // max(biggest, 1))
-        Z = np.zeros((self.n_owned, m)) if keep else None
-        self.S = np.zeros((m, m))
-        Bf = self.B_free.tocsc()
-        for c0 in range(0, m, block):
-            c1 = min(m, c0 + block)
-            Rm = PETSc.Mat().createDense([(self.n_owned, PETSc.DETERMINE), (PETSc.DECIDE, c1 - c0)],
-                                         array=np.asfortranarray(Bf[:, c0:c1].toarray()), comm=comm)
-            Zm = PETSc.Mat().createDense([(self.n_owned, PETSc.DETERMINE), (PETSc.DECIDE, c1 - c0)], comm=comm)
-            Zm.setUp()
-            F.matSolve(Rm, Zm)
-            Zb = Zm.getDenseArray()
-            self.S[:, c0:c1] = Bf.T @ Zb
-            if keep:
-                Z[:, c0:c1] = Zb
-            for obj in (Rm, Zm):
-                obj.destroy()
-        self.Z = Z
-        self.S = comm.allreduce(self.S)
-        self.S = 0.5 * (self.S + self.S.T)  # symmetric up to round-off
+        # Z = K^-1 B is kept for the pair-force response when it is small (and was solved for: without
+        # the Schur complement), otherwise that response is one more solve
+        self.S, self.Z = compliance(problem, self.B_free, keep=Z_KEEP)
 
     def jumps(self, u_owned: np.ndarray) -> np.ndarray:
         """B^T u for the owned part of a displacement vector."""

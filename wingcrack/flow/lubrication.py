@@ -53,10 +53,18 @@ from .network import FlowNetwork
 #: error, and the fluid balance of the totals (a sum of the residuals over the nodes and the steps)
 #: well inside the 1e-8 the run promises
 RTOL = 1e-13
-#: the most Newton iterations of one time step
+#: the most mechanics solves of one time step
 MAX_ITERATIONS = 60
+#: the most Newton iterations of the flow in one time step (on linearised mechanics)
+MAX_NEWTON = 200
 #: halvings of a Newton step whose residual does not fall
 MAX_HALVINGS = 12
+#: the round-off of the residual's terms (the fluid held, the fluxes), relative: a few operations
+#: each, and the Newton solve's own error on top (its matrix holds the storage next to dt times the
+#: conductances)
+ROUND_OFF = 64 * np.finfo(float).eps
+#: a Newton iteration that no step improves stops there within this many tolerances
+STALL = 100.0
 
 
 @dataclass(frozen=True)
@@ -131,10 +139,144 @@ class Source:
 
 @dataclass
 class StepInfo:
+    """How a step went: the flow's Newton iterations, the mechanics' solves,
+    the final residual (of the fluid that moved), the halvings back towards
+    the best state, the dry nodes."""
     iterations: int = 0
+    solves: int = 0
     residual: float = 0.0
     halvings: int = 0
     dry: int = 0
+
+
+class _Linearised:
+    """The mechanics linearised at p_k: w = w_k + W (p - p_k) (W None: w_k)."""
+
+    def __init__(self, p_k, w_k, W, resolution=0.0):
+        self.p_k, self.w_k, self.W, self.resolution = p_k, np.asarray(w_k, float), W, resolution
+
+    def openings(self, p):
+        if self.W is None:
+            return self.w_k
+        return self.w_k + (np.asarray(self.W) @ (p - self.p_k)).reshape(self.w_k.shape)
+
+    def derivative(self):
+        return self.W
+
+
+class _Frozen(_Linearised):
+    """The openings of a solve, held."""
+
+    def __init__(self, w, resolution=0.0):
+        super().__init__(None, w, None, resolution)
+
+
+@dataclass
+class _Evaluation:
+    """The residual of the flow's equations at p (and the multiplier lam of a
+    given pressure), with what the Jacobian needs, its norm, the tolerance
+    and the scale it is measured against."""
+    p: np.ndarray
+    lam: float
+    R: np.ndarray
+    w: np.ndarray
+    rho: np.ndarray
+    V: np.ndarray
+    c: np.ndarray
+    rho_s: np.ndarray
+    dp: np.ndarray
+    norm: float = 0.0
+    tol: float = 0.0
+    scale: float = 0.0
+
+
+class _StepProblem:
+    """The equations of one backward-Euler step (module doc) for a given
+    mechanics model, and Newton's method on them."""
+
+    def __init__(self, lub, state, dt, carter, source, mechanics, rtol):
+        self.lub, self.dt, self.carter, self.source, self.rtol = lub, dt, carter, source, rtol
+        self.m_old = state.fluid
+        self.given = source.pressure is not None
+        self.wts = np.asarray(source.weights, float)
+
+    def evaluate(self, model, p, lam=None) -> _Evaluation:
+        lub, seg = self.lub, self.lub.net.segments
+        w = model.openings(p)
+        rho = lub.fluid.density(p)
+        V = lub.volumes(w)
+        c = lub.conductances(w)
+        rho_s = 0.5 * (rho[seg[:, 0]] + rho[seg[:, 1]])
+        dp = p[seg[:, 0]] - p[seg[:, 1]]
+        flux = rho_s * c * dp
+        R = rho * V - self.m_old + self.dt * (lub._G @ flux) + rho * self.carter
+        if self.given:
+            if lam is None:   # the multiplier that best balances the residual: the source's least squares
+                lam = float(self.wts @ R / (self.wts @ self.wts))
+            r = R - self.wts * lam
+        else:
+            lam, r = 0.0, R - self.wts * self.source.volume
+            R = r
+        e = _Evaluation(p, lam, R if not self.given else R, w, rho, V, c, rho_s, dp)
+        e.norm = float(np.max(np.abs(r), initial=0.0))
+        # the residual's scale: the fluid that moves in the step (the inflow, the leak-off, the change of
+        # the fluid held), floored at the round-off of its terms (the fluid held, the fluxes: a
+        # difference of pressures carries their round-off, which the conductance over a long step
+        # magnifies where the pressure has evened out) and of the openings the mechanics computes (its
+        # `resolution`, m), so that the balance of the totals holds to RTOL of what came and went,
+        # however much the network held before
+        moved = max(abs(lam) if self.given else abs(self.source.volume), float(np.sum(rho * self.carter)),
+                    float(np.max(np.abs(rho * V - self.m_old), initial=0.0)))
+        level = rho_s * c * (np.abs(p[seg[:, 0]]) + np.abs(p[seg[:, 1]]))   # a flux's terms: p's round-off
+        noise = ROUND_OFF * (np.abs(self.m_old) + self.dt * (abs(lub._G) @ level)) + \
+            rho * lub.lengths * model.resolution
+        floor = float(np.max(noise, initial=0.0))
+        e.scale = max(moved, floor, 1e-300)
+        e.tol = max(self.rtol * moved, floor)
+        return e
+
+    def residual(self, e: _Evaluation) -> np.ndarray:
+        return e.R - self.wts * e.lam if self.given else e.R
+
+    def newton(self, model, p, lam, info) -> tuple[np.ndarray, float]:
+        """The root p (and multiplier) of the step's equations with the
+        openings of `model`, from p; a backtracking line search where the
+        residual does not fall."""
+        n = self.lub.net.num_nodes
+        e = self.evaluate(model, p, lam)
+        first = True
+        while first or e.norm > e.tol:
+            first = False
+            if e.norm == 0.0:
+                break
+            if info.iterations >= MAX_NEWTON:
+                raise ArithmeticError(f"the flow's Newton iteration did not converge in {MAX_NEWTON} "
+                                      f"iterations (residual {e.norm / e.scale:.3g} of the fluid)")
+            info.iterations += 1
+            J, dry = self.lub._jacobian(model, e.w, e.rho, e.V, e.c, e.rho_s, e.dp, self.dt, self.carter, e.p)
+            info.dry = int(np.sum(dry))
+            r = self.residual(e).copy()
+            r[dry] = 0.0
+            wts = self.wts
+            if self.given:
+                A = sparse.bmat([[J, -sparse.csr_matrix(wts[:, None])], [sparse.csr_matrix(wts[None, :]), None]],
+                                format="csc") if sparse.issparse(J) else \
+                    np.block([[J, -wts[:, None]], [wts[None, :], np.zeros((1, 1))]])
+                rhs = np.r_[-r, self.source.pressure - wts @ e.p]
+            else:
+                A, rhs = (J.tocsc() if sparse.issparse(J) else J), -r
+            x = splinalg.spsolve(A, rhs) if sparse.issparse(A) else np.linalg.solve(A, rhs)
+            dp_, dlam = (x[:n], x[n]) if self.given else (x, 0.0)
+            step = 1.0
+            for _ in range(MAX_HALVINGS + 1):
+                trial = self.evaluate(model, e.p + step * dp_, e.lam + step * dlam if self.given else None)
+                if trial.norm < e.norm or trial.norm <= trial.tol:
+                    break
+                step *= 0.5
+            if trial.norm >= e.norm and e.norm <= STALL * e.tol:
+                break   # at the round-off of the dense solve: no step lowers the residual
+            e = trial
+        return e.p, e.lam
 
 
 class Lubrication:
@@ -222,95 +364,82 @@ class Lubrication:
 
     def step(self, state: FlowState, t1: float, source: Source, mechanics=None,
              rtol: float = RTOL) -> tuple[FlowState, StepInfo]:
-        """The state at t1 > state.time: backward Euler, Newton on p from
+        """The state at t1 > state.time: backward Euler, from
         state.pressure. mechanics: openings(p) and derivative() (module doc;
-        RigidFaces for faces that do not move). The mechanics is left solved
-        at the returned pressure."""
-        net, fl = self.net, self.fluid
+        RigidFaces for faces that do not move), and `last`, (p, w) of its last
+        solve, or None. The mechanics is left solved at the returned pressure.
+
+        Newton's method on p, the mechanics linearised: each outer iteration
+        solves the flow to convergence with the openings w_k + W_k (p - p_k)
+        (w_k, W_k = dw/dp the mechanics' at p_k; the first from its last
+        solve), then solves the mechanics at the new pressure; done when
+        the flow's residual with those openings is within the tolerance.
+        Where the linearisation is exact (closed faces, open ones whose
+        contact states hold) one mechanics solve a step; the flow's own
+        nonlinearity (the density, the cubic law) costs no mechanics solve."""
+        net = self.net
         mechanics = RigidFaces(np.zeros((net.num_edges, 3))) if mechanics is None else mechanics
-        n = net.num_nodes
         dt = float(t1) - state.time
         if not dt > 0:
             raise ValueError(f"a time step must go forward (from {state.time:g} s to {t1:g} s)")
         carter = self._carter(state, t1)
-        given = source.pressure is not None
         wts = np.asarray(source.weights, float)
         p = state.pressure.copy()
-        if given:   # start from a field that meets the constraint
-            p += (source.pressure - wts @ p) / np.sum(wts)
-        m_old = state.fluid
-        # the residual's scale: the fluid that moves in the step (the inflow, the leak-off, the change of
-        # the fluid held), floored at the round-off of the fluid held, so that the balance of the totals
-        # holds to RTOL of what came and went, however much the network held before
-        floor = 64 * np.finfo(float).eps * float(np.max(np.abs(m_old), initial=0.0))
+        if source.pressure is not None:   # a field that meets the constraint, changed at the source's nodes only
+            at = wts > 0
+            p[at] += (source.pressure - wts @ p) / np.sum(wts[at])
         info = StepInfo()
-        seg = net.segments
+        problem = _StepProblem(self, state, dt, carter, source, mechanics, rtol)
+        last = getattr(mechanics, "last", None)
+        if last is None:
+            p_k, w_k = p, mechanics.openings(p)
+            info.solves += 1
+        else:
+            p_k, w_k = last
+        W_k = mechanics.derivative()
+        lam = None
+        accepted = []   # the residual norms of the states the outer iteration moved to
+        best = None
 
-        def evaluate(p):
-            w = mechanics.openings(p)
-            rho = fl.density(p)
-            V = self.volumes(w)
-            c = self.conductances(w)
-            rho_s = 0.5 * (rho[seg[:, 0]] + rho[seg[:, 1]])
-            dp = p[seg[:, 0]] - p[seg[:, 1]]
-            F = rho_s * c * dp
-            R = rho * V - m_old + dt * (self._G @ F) + rho * carter
-            if not given:
-                R = R - wts * source.volume
-            return R, (w, rho, V, c, rho_s, dp)
+        def solved(p_new, lam):   # the mechanics solved at p_new, and the flow's residual there
+            w = mechanics.openings(p_new)
+            info.solves += 1
+            return w, problem.evaluate(_Frozen(w, getattr(mechanics, "resolution", 0.0)), p_new, lam)
 
-        def residual_norm(R, lam=0.0):
-            r = R - wts * lam if given else R
-            return float(np.max(np.abs(r)))
-
-        R, parts = evaluate(p)
-        lam = 0.0
-        if given:   # the multiplier that best balances the first residual: the source's least squares
-            lam = float(wts @ R / (wts @ wts))
-        norm = residual_norm(R, lam)
         while True:
-            w, rho, V, c, rho_s, dp = parts
-            moved = max(abs(lam) if given else abs(source.volume), float(np.sum(rho * carter)),
-                        float(np.max(np.abs(rho * V - m_old), initial=0.0)))
-            scale = max(moved, floor, 1e-300)
-            tol = max(rtol * moved, floor)
-            if norm <= tol and info.iterations > 0 or norm == 0.0:
+            model = _Linearised(p_k, w_k, W_k, getattr(mechanics, "resolution", 0.0))
+            p_new, lam = problem.newton(model, p if best is None else p_k, lam, info)
+            w, true = solved(p_new, lam)
+            if true.norm <= true.tol:
                 break
-            if info.iterations >= MAX_ITERATIONS:
-                raise ArithmeticError(f"the flow's Newton iteration did not converge in {MAX_ITERATIONS} "
-                                      f"iterations (residual {norm / scale:.3g} of the fluid)")
-            info.iterations += 1
-            J, dry = self._jacobian(mechanics, w, rho, V, c, rho_s, dp, dt, carter, p)
-            info.dry = int(np.sum(dry))
-            r = R - wts * lam if given else R.copy()
-            r[dry] = 0.0
-            if given:
-                A = sparse.bmat([[J, -sparse.csr_matrix(wts[:, None])], [sparse.csr_matrix(wts[None, :]), None]],
-                                format="csc") if sparse.issparse(J) else \
-                    np.block([[J, -wts[:, None]], [wts[None, :], np.zeros((1, 1))]])
-                rhs = np.r_[-r, source.pressure - wts @ p]
-            else:
-                A, rhs = (J.tocsc() if sparse.issparse(J) else J), -r
-            x = splinalg.spsolve(A, rhs) if sparse.issparse(A) else np.linalg.solve(A, rhs)
-            dp_, dlam = (x[:n], x[n]) if given else (x, 0.0)
-            # backtracking: the full step unless the residual grows (a contact state changed on the way)
-            step = 1.0
-            for _ in range(MAX_HALVINGS + 1):
-                p_try, lam_try = p + step * dp_, lam + step * dlam
-                R_try, parts_try = evaluate(p_try)
-                norm_try = residual_norm(R_try, lam_try)
-                if norm_try < norm or norm_try <= tol:
-                    break
-                step *= 0.5
+            # a semismooth Newton step may cross a change of the contact states (the linearisation held
+            # the states of the last one): the new state is taken where its residual is below the
+            # largest of the last two taken (non-monotone: crossing a kink of the opening, as a crack
+            # starts to open, first overshoots, then lands), else back towards the best one
+            halvings = 0
+            while accepted and true.norm >= max(accepted[-2:]) and true.norm > true.tol:
+                halvings += 1
                 info.halvings += 1
-            p, lam, R, parts, norm = p_try, lam_try, R_try, parts_try, norm_try
-        w, rho, V, c, rho_s, dp = parts   # the mechanics' last solve was at p (the accepted trial)
-        m = rho * V
-        injected = lam if given else float(source.volume)
-        leaked = float(np.sum(rho * carter))
-        exposed = state.exposed.copy()
-        info.residual = norm / max(scale, 1e-300)
-        out = FlowState(float(t1), p, m, state.injected + injected, state.leaked + leaked, exposed, state.initial)
+                if halvings > MAX_HALVINGS:
+                    raise ArithmeticError(f"the flow and the faces found no common state in {info.solves} "
+                                          f"solves (residual {true.norm / true.scale:.3g} of the fluid)")
+                p_new = 0.5 * (p_new + best.p)
+                lam = None if lam is None else 0.5 * (lam + best.lam)
+                w, true = solved(p_new, lam)
+            if true.norm <= true.tol:
+                break
+            if info.solves >= MAX_ITERATIONS:
+                raise ArithmeticError(f"the flow and the faces did not converge in {MAX_ITERATIONS} solves "
+                                      f"(residual {true.norm / true.scale:.3g} of the fluid)")
+            accepted.append(true.norm)
+            best = true if best is None or true.norm < best.norm else best
+            p_k, w_k, W_k = p_new, w, mechanics.derivative()
+        m = true.rho * true.V
+        injected = true.lam if source.pressure is not None else float(source.volume)
+        leaked = float(np.sum(true.rho * carter))
+        info.residual = true.norm / true.scale
+        out = FlowState(float(t1), p_new, m, state.injected + injected, state.leaked + leaked, state.exposed.copy(),
+                        state.initial)
         return out, info
 
     def _jacobian(self, mechanics, w, rho, V, c, rho_s, dp, dt, carter, p):

@@ -65,6 +65,24 @@ def edge_normals(cm) -> np.ndarray:
     return n * np.sign(np.sum(n * ref, axis=1))[:, None]
 
 
+def edge_pairs(cm, plus, minus) -> np.ndarray:
+    """(k, 3) the row of cm.pairs holding each edge node's + copy `plus`
+    (k, 3) and - copy `minus`; -1 at a tip (one node, both faces): every
+    other edge node's copies face each other as a pair."""
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    n = len(cm.x)
+    keys = pairs[:, 0] * n + pairs[:, 1]
+    order = np.argsort(keys)
+    want = (np.asarray(plus, np.int64) * n + np.asarray(minus, np.int64)).ravel()
+    at = np.minimum(np.searchsorted(keys[order], want), max(len(keys) - 1, 0))
+    found = keys[order][at] == want if len(keys) else np.zeros(len(want), bool)
+    out = np.where(found, order[at] if len(keys) else -1, -1)
+    tip = (np.asarray(plus) == np.asarray(minus)).ravel()
+    if np.any(~found & ~tip):
+        raise ValueError("a crack edge's face copies are no pair of the mesh (a bug in the mesher)")
+    return out.reshape(-1, 3)
+
+
 @dataclass(frozen=True, eq=False)
 class FlowNetwork:
     """The flow's nodes and segments on a crack mesh's faces (module doc).
@@ -86,6 +104,8 @@ class FlowNetwork:
     minus: np.ndarray
     #: (k, 2) each edge's unit normal n (edge_normals)
     normal: np.ndarray
+    #: (k, 3) the CrackMesh pair (row of cm.pairs) of each edge node's + and - copies; -1 at a tip
+    pair: np.ndarray
     #: (2k, 2) the flow nodes at each segment's ends, and (2k,) its length (m)
     segments: np.ndarray
     length: np.ndarray
@@ -107,6 +127,7 @@ class FlowNetwork:
         index = np.flatnonzero(keep)
         plus, minus = plus_all[index], minus_all[index]
         normal = edge_normals(cm)[index] if len(index) else np.zeros((0, 2))
+        pair = edge_pairs(cm, plus, minus)
         # one flow node per distinct point of the faces (every copy of a mesh node has its coordinates)
         pts, inverse = np.unique(x[plus].reshape(-1, 2), axis=0, return_inverse=True)
         edges = inverse.reshape(-1, 3).astype(np.int64)
@@ -133,7 +154,7 @@ class FlowNetwork:
             return out
 
         length = np.linalg.norm(pts[segments[:, 1]] - pts[segments[:, 0]], axis=1)
-        return cls(pts, edges, index, frac_all[index], plus, minus, normal, segments, length,
+        return cls(pts, edges, index, frac_all[index], plus, minus, normal, pair, segments, length,
                    interleave(*shape), interleave(*ds), interleave(*hat))
 
     @property
