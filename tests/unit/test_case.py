@@ -666,7 +666,7 @@ def test_every_key_of_the_description_is_read():
     for name in ("material", "mesh", "body", "stress", "propagation"):
         given[name] = set(d[name])
     given["domain"] = set(d["domain"])
-    given["fractures"] = set(d["fractures"][1])
+    given["fractures"] = set(d["fractures"][1]) | {"hydraulic_aperture"}   # its default is none: test_case_injection
     given["bc"] = {k for bc in d["bc"] for k in bc}
     # the pump (propagation.load = "injection" and its table): tests/unit/test_case_injection.py
     given["top"].add("injection")

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from test_case import BASE, patched
+from test_case import BASE, DELETE, patched
 from wingcrack.case import Case, CaseError
 from wingcrack.propagation.schedule import Schedule
 
@@ -44,12 +44,32 @@ def test_a_schedule_reads_as_tuples():
     ((("injection.end_time", 1e13),), "injection.end_time", "at most 1e+12"),
     ((("injection.rate", 1e3),), "injection.rate", "must be at most L^2"),
     ((("injection", {}),), "injection.fracture", "missing"),
-    ((("injection.leak_off", 0.0),), "injection.leak_off", "not yet supported"),
+    ((("injection.leak_off", 1e-5),), "injection.leak_off", "needs injection.viscosity"),
+    ((("injection.viscosity", 1e-3), ("injection.end_time", 60.0), ("injection.frames", 3.5)), "injection.frames",
+     "integer"),
+    ((("injection.viscosity", 1e-3), ("injection.end_time", 60.0), ("injection.rate", DELETE)), "injection.rate",
+     "or (with viscosity) a pressure"),
 ])
 def test_the_pump_is_refused_naming_the_key(change, key, reason):
     with pytest.raises(CaseError) as info:
         Case.from_dict(patched(*change, base=PUMPED))
     assert info.value.key == key and reason in info.value.reason, (info.value.key, info.value.reason)
+
+
+def test_the_flow_reads_its_keys():
+    """With a viscosity the fluid flows along the fractures: a pressure at
+    the point instead of a rate, leak-off, frames, a fracture's fixed
+    hydraulic aperture."""
+    d = patched(("injection", {"fracture": 1, "pressure": 2e6, "viscosity": 1e-3, "leak_off": 1e-5,
+                               "end_time": 60.0, "frames": 5}), ("fractures.1.hydraulic_aperture", 1e-4),
+                base=PUMPED)
+    case = Case.from_dict(d)
+    inj = case.injection
+    assert (inj.pressure, inj.viscosity, inj.leak_off, inj.end_time, inj.frames, inj.rate) == \
+        (2e6, 1e-3, 1e-5, 60.0, 5, None)
+    assert case.fractures[1].hydraulic_aperture == 1e-4 and case.fractures[0].hydraulic_aperture is None
+    flow = Case.from_dict(patched(("injection.viscosity", 1e-3), ("injection.end_time", 60.0), base=PUMPED))
+    assert flow.injection.frames == 20 and flow.injection.leak_off == 0.0 and flow.injection.pressure is None
 
 
 def test_a_dry_fracture_with_a_pressure_beside_the_network_is_accepted():

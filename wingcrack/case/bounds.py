@@ -44,11 +44,6 @@ WATER_COMPRESSIBILITY = 4.5e-10
 MAX_COMPRESSIBILITY_E = 1000.0
 #: The longest time (s) a schedule may name: about 30,000 years.
 MAX_TIME = 1e12
-#: Keys of the flow along the fractures (a later version), refused by name rather than as unknown
-#: ({table: {key: what it is}}): one pressure per connected network is the model here.
-NOT_YET = {"injection": {"viscosity": "the fluid's viscosity", "leak_off": "a leak-off coefficient",
-                         "pressure": "a given pressure at the injection point"},
-           "fractures": {"hydraulic_aperture": "a fixed hydraulic aperture"}}
 #: The largest Coulomb coefficient `friction` may be: far above any measured
 #: one, and small enough that friction times a stress of 0.1 E stays finite.
 MAX_FRICTION = 100.0

@@ -130,6 +130,8 @@ def check_injection(injection: Injection | None, propagation: Propagation, fract
     have no given pressure (theirs is the balance's); one of `rate` or
     `times` with `rates`; the schedule increasing and before `end_time`;
     the point on the fracture."""
+    if injection is None or injection.viscosity is None:
+        _check_without_flow(injection, fractures)
     if injection is None:
         if propagation.load == "injection":
             raise CaseError("propagation.load", '"injection" is driven by a pump: give an [injection] table '
@@ -159,10 +161,36 @@ def check_injection(injection: Injection | None, propagation: Propagation, fract
                                                "injected fracture: the fluid enters on it")
 
 
+def _check_without_flow(injection: Injection | None, fractures) -> None:
+    """The keys of the flow along the fractures need the fluid's viscosity."""
+    for i, f in enumerate(fractures):
+        if f.hydraulic_aperture is not None:
+            raise CaseError(f"fractures[{i}].hydraulic_aperture", "a hydraulic aperture is the flow's: it needs "
+                                                                  "injection.viscosity (without it one pressure "
+                                                                  "fills each network)")
+    if injection is None:
+        return
+    defaults = Injection.__dataclass_fields__
+    for name in ("leak_off", "pressure", "frames"):
+        if getattr(injection, name) != defaults[name].default:
+            raise CaseError(f"injection.{name}", "needs injection.viscosity: without it the fluid does not flow "
+                                                 "along the fractures (one pressure fills each network)")
+
+
 def _check_schedule(injection: Injection) -> None:
     """`rate`, or `times` with as many `rates` (not all 0), strictly
-    increasing and before `end_time`."""
+    increasing and before `end_time`; or, with viscosity, `pressure`; and
+    with viscosity an `end_time`."""
     times, rates = injection.times, injection.rates
+    if injection.viscosity is not None and injection.end_time is None:
+        raise CaseError("injection.end_time", "missing: the flow along the fractures runs in time (required with "
+                                              "injection.viscosity)")
+    if injection.pressure is not None:
+        for name in ("rate", "times", "rates"):
+            if getattr(injection, name) is not None:
+                raise CaseError(f"injection.{name}", "give a pressure at the point or a rate (or a schedule), "
+                                                     "not both")
+        return
     if injection.rate is not None:
         for name, v in (("times", times), ("rates", rates)):
             if v is not None:
@@ -170,7 +198,8 @@ def _check_schedule(injection: Injection) -> None:
                                                      "not both")
         return
     if times is None and rates is None:
-        raise CaseError("injection.rate", "missing: give rate (m^3/s per m), or times and rates (a schedule)")
+        also = ", or (with viscosity) a pressure" if injection.viscosity is not None else ""
+        raise CaseError("injection.rate", f"missing: give rate (m^3/s per m), or times and rates (a schedule){also}")
     for name, v, other in (("times", times, "rates"), ("rates", rates, "times")):
         if v is None:
             raise CaseError(f"injection.{name}", f"missing (required with injection.{other})")

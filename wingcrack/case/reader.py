@@ -17,7 +17,7 @@ import numpy as np
 
 from meshing import admissibility
 from meshing.domain import Domain  # pure numpy: `check` needs neither gmsh nor DOLFINx
-from wingcrack.case.bounds import MAX_FILE_BYTES, NOT_YET, REL_TOL
+from wingcrack.case.bounds import MAX_FILE_BYTES, REL_TOL
 from wingcrack.case.checks import (check_bc_conflicts, check_injection, check_mesh_against_domain, check_polygon,
                                    check_pressure_load, check_scale, check_slip_junctions, check_step_length,
                                    refuse)
@@ -159,16 +159,6 @@ def _scales(material: Material, domain) -> dict:
             "L^2": L * L, "E^-1": 1.0 / E}
 
 
-def _refuse_not_yet(t: Table, name: str) -> None:
-    """A key of the flow along the fractures (bounds.NOT_YET) is refused by
-    name: it is no typo, and this version does not read it."""
-    for k in t.data:
-        if k in NOT_YET[name]:
-            raise CaseError(t.key(k), f"not yet supported: {NOT_YET[name][k]} needs the flow along the "
-                                      "fractures, which this version does not model (one pressure per connected "
-                                      "network); leave it out")
-
-
 def read_case(d: dict) -> tuple:
     """The parts of a Case (title, material, domain, fractures, bcs, body,
     stress, mesh, propagation, injection), each checked, from a parsed case
@@ -189,8 +179,6 @@ def read_case(d: dict) -> tuple:
     known = _scales(material, domain)
 
     fr_tables = top.value(section["fractures"])
-    for ft in fr_tables:
-        _refuse_not_yet(ft, "fractures")
     parsed = [ft.read(DESCRIPTION["fractures"], known) for ft in fr_tables]
     for ft, f in zip(fr_tables, parsed):
         refuse(admissibility.fracture(f["points"], ft.key("points"), domain))
@@ -221,7 +209,6 @@ def read_case(d: dict) -> tuple:
     check_step_length(propagation, mesh)
     check_pressure_load(propagation, fractures)
     it = top.value(section["injection"])
-    _refuse_not_yet(it, "injection")
     injection = Injection(**it.read(DESCRIPTION["injection"], known)) if "injection" in d else None
     check_injection(injection, propagation, fractures, domain)
 

@@ -70,6 +70,14 @@ class Fracture:
                               "pressure\" below).",
                           limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL))
     grow: bool = key(True, doc="Whether this fracture's tips may grow wing cracks.")
+    hydraulic_aperture: float = key(None, unit="m", range=POSITIVE, default_doc="none: opening + residual aperture",
+                                    rule="with `injection.viscosity` only", added=True,
+                                    limit=Limit(hi=MAX_STRAIN, of="L", why=SMALL),
+                                    doc="A fixed hydraulic aperture w_h of the fracture (not of its wings): the "
+                                        "flow's conductivity w_h^3 / (12 viscosity) along it, whatever its opening "
+                                        "or slip (a conduit: a fault zone whose permeability the slip does not "
+                                        "change). It holds w_h of fluid per metre beyond its opening, in place of "
+                                        "the residual aperture.")
     slip_profile: str = key("uniform", choices=SLIP_PROFILES, only_with=("faces", "slip"), added=True,
                             doc="`uniform`: the same slip everywhere, which acts as a dislocation at the tips, so K "
                                 "depends on `mesh.tip_size`. `elliptic`: slip·sqrt(1 - (2s/L - 1)^2) along the arc "
@@ -237,7 +245,8 @@ class Injection:
                                      rule="on the injected fracture",
                                      doc="Where the fluid enters. With one pressure per network it changes no "
                                          "result; it is the flow's source when the flow along the fractures comes.")
-    rate: float = key(None, unit="m^3/s per m", range=POSITIVE, rule="`rate`, or `times` with `rates`",
+    rate: float = key(None, unit="m^3/s per m", range=POSITIVE,
+                      rule="`rate`, or `times` with `rates`, or (with `viscosity`) `pressure`",
                       limit=Limit(hi=1.0, of="L^2", why="the domain's area each second"),
                       doc="A constant injection rate from t = 0.")
     times: tuple[float, ...] = key(None, unit="s", range=NON_NEGATIVE, rule="strictly increasing, before `end_time`",
@@ -264,6 +273,24 @@ class Injection:
                                   doc="p0: the pressure of the injected network at t = 0 (it holds its volume at "
                                       "p0), and the density law's reference.")
     end_time: float = key(None, unit="s", range=POSITIVE, default_doc="none",
-                          limit=Limit(hi=MAX_TIME, why="about 30,000 years"),
+                          limit=Limit(hi=MAX_TIME, why="about 30,000 years"), rule="required with `viscosity`",
                           doc="The run stops there (`stopped: end_time reached ...`), with a record of the state "
                               "at that time, if propagation.steps do not end it first.")
+    viscosity: float = key(None, unit="Pa s", range=POSITIVE, default_doc="none: one pressure per network",
+                           added=True, limit=Limit(1e-6, 1e9, why="from below a gas's, 1e-5, to above a magma's or "
+                                                                  "bitumen's, 1e8"),
+                           doc="The fluid's viscosity eta: the fluid flows along the fractures, wings included, "
+                               "under the cubic law q = -w^3 / (12 eta) dp/ds (w the hydraulic aperture, the "
+                               "opening + the residual aperture, or a fracture's `hydraulic_aperture`), and the "
+                               "pressure varies along them (see \"Flow along the fractures\" below).")
+    leak_off: float = key(0.0, unit="m/s^0.5", range=NON_NEGATIVE, added=True, rule="with `viscosity` only",
+                          limit=Limit(hi=1.0, why="a hundred times the leakiest measured, ~1e-3"),
+                          doc="Carter's leak-off coefficient C_L: each face of a fracture loses C_L / sqrt(t - t0) "
+                              "of fluid per metre and second, t0 the time the fluid first reached it.")
+    pressure: float = key(None, unit="Pa", range=POSITIVE, added=True, rule="with `viscosity`, instead of a rate",
+                          limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL),
+                          doc="A pressure held at `point` from t = 0 instead of a rate: the pump delivers what the "
+                              "network takes there (a pressure step for diffusion along a fault).")
+    frames: int = key(20, range=Range(1, 10_000), added=True, rule="with `viscosity` only",
+                      doc="With `viscosity`, the run records the state (a step: its files and its record) at "
+                          "`frames` times evenly up to `end_time`, besides every growth.")
