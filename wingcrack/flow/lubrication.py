@@ -65,6 +65,8 @@ MAX_HALVINGS = 12
 ROUND_OFF = 64 * np.finfo(float).eps
 #: a Newton iteration that no step improves stops there within this many tolerances
 STALL = 100.0
+#: the Tikhonov term of the Newton solve, relative to the Jacobian's largest entry
+REGULAR = 1e-12
 
 
 @dataclass(frozen=True)
@@ -255,6 +257,10 @@ class _StepProblem:
             info.iterations += 1
             J, dry = self.lub._jacobian(model, e.w, e.rho, e.V, e.c, e.rho_s, e.dp, self.dt, self.carter, e.p)
             info.dry = int(np.sum(dry))
+            # the P1 pressure has more nodes than the faces have openings (a tip node's hat loads pairs
+            # only): where nothing conducts, a field that loads no face stores nothing, and J is
+            # singular in it; a Tikhonov term of round-off size leaves that part of p where it was
+            J = J + REGULAR * float(abs(J).max()) * (sparse.identity(n) if sparse.issparse(J) else np.eye(n))
             r = self.residual(e).copy()
             r[dry] = 0.0
             wts = self.wts

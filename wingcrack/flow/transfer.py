@@ -9,10 +9,10 @@ fracture (a node's fluid over the length it stands for) and the time fluid
 first reached it (Carter's), at the nodes of its edges. On the next mesh
 each node takes the samples' linear interpolation along its fractures (the
 mean where fractures meet); beyond the last sample (the new crack a tip
-grew) no fluid yet, the pressure of the last sample and the time now. The
-fluid is then scaled to the total it was: the network's fluid is
-conserved exactly, and the new crack fills by the flow of the next step
-(no fluid lag: its pressure is continuous up to the tip).
+grew) no fluid yet and the time now. The fluid is then scaled to the total
+it was: the network's fluid is conserved exactly. The pressure, a shape for
+the caller to balance against the new geometry's mechanics, is the samples'
+stretched over the new extent (the old tips' pressure at the new tips).
 """
 from __future__ import annotations
 
@@ -103,7 +103,10 @@ def carry(samples: Samples, net: FlowNetwork, fractures, lengths: np.ndarray) ->
         if int(f) in samples.along:
             s0, p0, r0, e0 = samples.along[int(f)]
             outside = (sf < s0[0] - 1e-12 * max(1.0, abs(s0[0]))) | (sf > s0[-1] + 1e-12 * max(1.0, abs(s0[-1])))
-            p[nodes] += np.interp(sf, s0, p0)
+            # the pressure's shape stretched over the new extent (the old tips' to the new tips)
+            lo, hi = min(sf.min(), s0[0]), max(sf.max(), s0[-1])
+            stretched = s0[0] + (sf - lo) * (s0[-1] - s0[0]) / (hi - lo) if hi > lo else sf
+            p[nodes] += np.interp(stretched, s0, p0)
             rho[nodes] += np.where(outside, 0.0, np.interp(sf, s0, r0))
             exposed[nodes] += np.where(outside, samples.time, np.interp(sf, s0, e0))
         else:   # a fracture the fluid has not reached
