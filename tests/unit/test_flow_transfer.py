@@ -22,9 +22,10 @@ def network(polylines, tip):
 
 def test_a_linear_field_carries_exactly_and_the_fluid_is_conserved():
     """A crack meshed twice (other tip sizes, and the second with a wing
-    grown at its first end, its points prepended): the pressure, linear in
-    x, is interpolated exactly by arc length; the new wing is dry; the
-    total fluid is the old one to round-off."""
+    grown at its first end, its points prepended): the fluid, linear in x,
+    is interpolated exactly by arc length, and the pressure's shape
+    stretched over the new extent (both linear fields: exact); the new wing
+    is dry; the total fluid is the old one to round-off."""
     old = SimpleNamespace(points=np.array([[-1.0, 0.0], [1.0, 0.0]]), pre=(0, 1))
     new = SimpleNamespace(points=np.array([[-1.3, 0.3], [-1.0, 0.0], [1.0, 0.0]]), pre=(1, 2))
     net0, lub0 = network([old.points], 0.1)
@@ -36,7 +37,11 @@ def test_a_linear_field_carries_exactly_and_the_fluid_is_conserved():
     back = Samples.from_dict(samples.to_dict())
     moved = carry(back, net1, [new], lub1.lengths)
     on_old = (net1.x[:, 1] == 0.0)
-    np.testing.assert_allclose(moved.pressure[on_old], 1e6 + 2e5 * net1.x[on_old, 0], rtol=1e-12)
+    # the pressure's shape is stretched over the new extent: the old tips' pressures at the new tips
+    wing_length = float(np.hypot(0.3, 0.3))
+    s_new = np.where(on_old, net1.x[:, 0] + 1.0, -np.hypot(net1.x[:, 0] + 1.0, net1.x[:, 1]))
+    s_old = (s_new + wing_length) * 2.0 / (2.0 + wing_length)
+    np.testing.assert_allclose(moved.pressure, 1e6 + 2e5 * (s_old - 1.0), rtol=1e-12)
     wing = net1.x[:, 1] > 1e-9
     assert wing.any() and not moved.fluid[wing].any() and (moved.exposed[wing] == 3.0).all()
     assert moved.fluid.sum() == pytest.approx(state.fluid.sum(), rel=1e-13)
