@@ -140,6 +140,16 @@ class Call:
             raise RuntimeError(value)
         return value
 
+    def ready(self) -> bool:
+        """Whether result() would find the answer (or the worker's death)
+        coming already, without waiting for the worker to finish: true once
+        its first bytes are there (a small answer is written at once), and
+        for a call no longer outstanding (result() says so at once)."""
+        if self._channel._outstanding is not self:
+            return True
+        ready, _, _ = select.select([self._worker.proc.stdout.fileno()], [], [], 0)
+        return bool(ready)
+
     def cancel(self) -> None:
         """Abandon the call if it is still outstanding (the worker is killed)."""
         channel = self._channel
