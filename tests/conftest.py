@@ -32,6 +32,7 @@ SLOW_FILES = {
     "tests/robustness/test_random_networks.py",
     "tests/command_line/test_resume.py",
     "tests/robustness/test_unwritable_output.py",
+    "tests/command_line/test_pictures_as_steps_finish.py",
 }
 #: single slow tests, by file and name (every parameter of one)
 SLOW_TESTS = {

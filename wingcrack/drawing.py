@@ -14,6 +14,11 @@ died) or dies while drawing: the pictures are drawn in this process
 instead. Ctrl-C or SIGTERM while waiting kills the worker (see
 procs.worker.Call) and reaches the caller as KeyboardInterrupt, as when
 the drawing was in-process.
+
+While a run goes, the frames of its animation are drawn there too, each
+once its step is committed (Frames; io.growing_animation keeps them): the
+run sends the steps and never waits for the drawing, which keeps to the
+other core. The pictures at the end take the frames that still hold.
 """
 from __future__ import annotations
 
@@ -23,6 +28,8 @@ import math
 DRAW_TIMEOUT = math.inf
 
 _channel = None
+#: the run whose steps are sent to be drawn (Frames), until the pictures at its end
+_feeding = None
 
 
 def _drawing():
@@ -68,11 +75,104 @@ class NotDrawn(Exception):
     exception's message (plot without `failed`)."""
 
 
+class Frames:
+    """loop.run's `committed`: the steps committed by a run into `out` (its
+    case's title, propagation_asked and whether it has fractures), sent to the drawing process to draw
+    their frames (io.growing_animation), never waiting for it: a step goes
+    when the call before it is answered, with the steps that came meanwhile.
+    The first call begins the run's frames there (any other run's dropped)."""
+
+    def __init__(self, out, title: str, propagation: dict, fractured: bool):
+        global _feeding
+        self.out, self.head = out, (title, propagation, fractured)
+        self.pending, self.call, self.first = [], None, True
+        _feeding = self
+
+    def __call__(self, k: int, record: dict) -> None:
+        self.pending.append((k, record))
+        if self.call is not None:
+            if not self.call.ready():
+                return
+            self.settle()
+        if not _running():   # not started, or died: the pictures at the end draw every frame
+            return
+        try:
+            self.call = _drawing().send(_draw_frames, (self.out, self.first, self.head, self.pending), DRAW_TIMEOUT)
+        except RuntimeError:   # died on the way
+            return
+        self.pending, self.first = [], False
+
+    def settle(self) -> None:
+        """Wait for the call under way: a new call would abandon it (and the
+        worker with it)."""
+        call, self.call = self.call, None
+        if call is not None:
+            try:
+                call.result()
+            except RuntimeError:   # its frames not drawn: the end draws them
+                pass
+
+
+def _draw_frames(out, first: bool, head: tuple, records: list) -> None:
+    """In the worker: the frames of `records` [(k, step record)] committed
+    into `out` (the run's first call: `first`, which begins its frames with
+    `head`, Frames' title, propagation and fractured), at a low priority."""
+    _yielding(_frames_of, out, first, head, records)
+
+
+def _frames_of(out, first: bool, head: tuple, records: list) -> None:
+    from .io import growing_animation
+
+    if first:
+        growing_animation.begin(out, *head)
+    growing_animation.add(out, records)
+
+
+#: the niceness of the frames drawn while a run goes (the pictures at its end are drawn at the caller's)
+FRAMES_NICE = 10
+
+
+def _yielding(fn, *args):
+    """fn(*args) in a thread of this process niced by FRAMES_NICE, so that
+    the cores go to the run's steps and meshing first (Linux nices a thread
+    alone; the worker's own thread, which draws the pictures at the end,
+    keeps its priority)."""
+    import os
+    import threading
+
+    failed = []
+
+    def work():
+        try:
+            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), FRAMES_NICE)
+        except (OSError, AttributeError):   # not Linux: drawn at the worker's priority
+            pass
+        try:
+            fn(*args)
+        except BaseException as err:  # noqa: BLE001 - raised in the caller's thread
+            failed.append(err)
+
+    thread = threading.Thread(target=work, name="frames")
+    thread.start()
+    thread.join()
+    if failed:
+        raise failed[0]
+
+
+def _settled() -> None:
+    """The frames sent so far drawn, and no more sent (before the pictures)."""
+    global _feeding
+    feeding, _feeding = _feeding, None
+    if feeding is not None:
+        feeding.settle()
+
+
 def pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:
     """({name: path}, warnings) of plotting.draw_pictures(out, summary, history,
     animation), drawn in the drawing process when it runs, else here."""
     from .io import plotting
 
+    _settled()
     args = (out, summary, history, animation)
     if _running():
         try:
@@ -94,7 +194,7 @@ def _pictures_answer(out, summary: dict, history: bool, animation: bool) -> tupl
     from .errors import WriteError
 
     try:
-        return "ok", plotting.draw_pictures(out, summary, history, animation)
+        return "ok", plotting.draw_pictures(out, summary, history, animation, beside=_beside())
     except WriteError as err:
         return "unwritten", err
 
@@ -105,6 +205,7 @@ def plot(out, history: bool, animation: bool) -> dict:
     process), in the drawing process when it runs, else here."""
     from .io import plotting
 
+    _settled()
     if _running():
         try:
             kind, value = _drawing().call(_plot_answer, (out, history, animation), DRAW_TIMEOUT)
@@ -122,6 +223,15 @@ def _plot_answer(out, history: bool, animation: bool) -> tuple:
     from .io import plotting
 
     try:
-        return "ok", plotting.plot(out, history=history, animation=animation)
+        return "ok", plotting.plot(out, history=history, animation=animation, beside=_beside())
     except Exception as err:  # noqa: BLE001 - the caller words it
         return "failed", str(err)
+
+
+def _beside():
+    """In the worker: procs.forked.start where a second core can draw a
+    picture beside this process (io.plotting.plot's `beside`), else None.
+    The run is over: its process waits for the pictures."""
+    from procs import forked
+
+    return forked.start if forked.available() else None
