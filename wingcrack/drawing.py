@@ -17,12 +17,15 @@ the drawing was in-process.
 
 While a run goes, the frames of its animation are drawn there too, each
 once its step is committed (Frames; io.growing_animation keeps them): the
-run sends the steps and never waits for the drawing, which keeps to the
-other core. The pictures at the end take the frames that still hold.
+run sends the steps and never waits for the drawing, which runs only on
+a core nothing else wants. The pictures at the end take the frames that
+still hold.
 """
 from __future__ import annotations
 
 import math
+import signal
+import threading
 
 #: no time limit, as in-process: a drawing that runs long is a large result, not a hang
 DRAW_TIMEOUT = math.inf
@@ -55,6 +58,14 @@ def preload() -> None:
     ax.set_title("wingcrack")
     fig.canvas.draw()
     plt.close(fig)
+    signal.signal(HURRY, lambda *_: _hurry.set())
+
+
+#: the signal that tells the drawing process to end the frames' call it is in (Frames.settle): one whose
+#: default action is to be ignored, so that a worker still starting (its preload not done) is not killed by it
+HURRY = signal.SIGURG
+#: set in the worker by HURRY: the frames' thread stops after the frame it draws
+_hurry = threading.Event()
 
 
 def start() -> None:
@@ -104,9 +115,13 @@ class Frames:
 
     def settle(self) -> None:
         """Wait for the call under way: a new call would abandon it (and the
-        worker with it)."""
+        worker with it). The worker is told to hurry: its frames run only on
+        a core nothing else wants, and the run now waits for them; the
+        frames it leaves are drawn with the pictures, at its own priority."""
         call, self.call = self.call, None
         if call is not None:
+            if not call.ready():
+                call.signal(HURRY)
             try:
                 call.result()
             except RuntimeError:   # its frames not drawn: the end draws them
@@ -116,7 +131,9 @@ class Frames:
 def _draw_frames(out, first: bool, head: tuple, records: list) -> None:
     """In the worker: the frames of `records` [(k, step record)] committed
     into `out` (the run's first call: `first`, which begins its frames with
-    `head`, Frames' title, propagation and fractured), at a low priority."""
+    `head`, Frames' title, propagation and fractured), at a low priority,
+    until HURRY comes."""
+    _hurry.clear()
     _yielding(_frames_of, out, first, head, records)
 
 
@@ -125,28 +142,35 @@ def _frames_of(out, first: bool, head: tuple, records: list) -> None:
 
     if first:
         growing_animation.begin(out, *head)
-    growing_animation.add(out, records)
+    growing_animation.add(out, records, _hurry.is_set)
 
 
-#: the niceness of the frames drawn while a run goes (the pictures at its end are drawn at the caller's)
-FRAMES_NICE = 10
+#: the niceness of the frames drawn while a run goes where the idle policy is not to be had
+FRAMES_NICE = 19
 
 
 def _yielding(fn, *args):
-    """fn(*args) in a thread of this process niced by FRAMES_NICE, so that
-    the cores go to the run's steps and meshing first (Linux nices a thread
-    alone; the worker's own thread, which draws the pictures at the end,
-    keeps its priority)."""
+    """fn(*args) in a thread of this process that runs only when a core has
+    nothing else to do (Linux's SCHED_IDLE; else niced by FRAMES_NICE), so
+    that the frames never take a core from the run's steps or its meshing
+    (niced by 10 only, they still took a share of one on a busy machine).
+    Linux schedules a thread alone: the worker's own thread, which draws
+    the pictures at the end while the run waits for them, keeps its
+    priority."""
     import os
     import threading
 
     failed = []
 
     def work():
+        tid = threading.get_native_id()
         try:
-            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), FRAMES_NICE)
-        except (OSError, AttributeError):   # not Linux: drawn at the worker's priority
-            pass
+            os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
+        except (OSError, AttributeError):
+            try:
+                os.setpriority(os.PRIO_PROCESS, tid, FRAMES_NICE)
+            except (OSError, AttributeError):   # neither: drawn at the worker's priority
+                pass
         try:
             fn(*args)
         except BaseException as err:  # noqa: BLE001 - raised in the caller's thread

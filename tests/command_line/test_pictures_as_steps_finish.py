@@ -236,3 +236,24 @@ def test_an_interrupted_run_leaves_a_folder_plot_completes_and_resumed_its_pictu
     run(case, out, "--resume")
     for name in PICTURES:
         assert (out / name).read_bytes() == (reference / name).read_bytes(), name
+
+
+def test_frames_left_when_the_run_hurries_the_drawing_are_drawn_at_the_end(reference, tmp_path, monkeypatch):
+    """The drawing process told to hurry (the run ended and waits for its
+    pictures) after two frames: it draws no more, and the end draws the
+    rest; the movie is the one drawn at once."""
+    from wingcrack.io import animation, frames, growing_animation
+    from wingcrack.io.outdir import read_result
+
+    out = tmp_path / "out"
+    shutil.copytree(reference, out)
+    drawn = []
+    real = frames.FrameDrawer.draw
+    monkeypatch.setattr(frames.FrameDrawer, "draw", lambda self, *a, **k: drawn.append(1) or real(self, *a, **k))
+    result = read_result(out)
+    growing_animation.begin(out, result.summary["title"], result.summary["propagation"], True)
+    growing_animation.add(out, list(enumerate(result.steps)), hurry=lambda: len(drawn) >= 2)
+    assert len(drawn) == 2
+    animation.animate_growth(out, result, "gif")
+    assert len(drawn) == 2 + STEPS - 2
+    assert (out / "growth.gif").read_bytes() == drawn_at_once(reference, tmp_path / "once")

@@ -64,3 +64,26 @@ def test_a_call_says_when_its_answer_is_there():
         assert call.result() == 0.5
     finally:
         channel.shutdown()
+
+
+def worker_pid():
+    return os.getpid()
+
+
+def test_the_drawing_process_takes_hurry_at_any_moment():
+    """drawing.HURRY (what Frames.settle sends while a frames' call runs)
+    kills no drawing process: neither one still starting (its preload not
+    done: the signal's default action is to be ignored) nor one at work."""
+    import signal
+
+    from wingcrack import drawing
+
+    channel = drawing._drawing()
+    channel.shutdown()
+    channel.start()
+    pid = channel._worker.proc.pid
+    os.kill(pid, drawing.HURRY)   # at once: the worker is importing matplotlib
+    assert channel.call(worker_pid, (), 60.0) == pid
+    os.kill(pid, drawing.HURRY)   # after its preload: its handler
+    assert channel.call(worker_pid, (), 60.0) == pid and channel.running()
+    assert signal.getsignal(drawing.HURRY) == signal.SIG_DFL   # this process's own is untouched

@@ -34,7 +34,7 @@ RIM_WIDTH = BAND_WIDTH + 6.0
 
 #: the GIF's palette, one for every frame of every animation: magma's colours (the field, its colour bar),
 #: a gray ramp (text, axes, white, black), the face-state bands, the pressure rims' blues and the field seen
-#: through the legend; a pixel takes the nearest entry of its colour's 6-bit cell (_gif_palette). Smooth
+#: through the legend; a pixel takes the entry nearest to the centre of its colour's 6-bit cell (_gif_palette). Smooth
 #: gradients where a palette adaptive to each frame bands them into contours, and no palette per frame to
 #: make or to compare: frames differ by their indices, which the GIF writer compares at once
 MAGMA_LEVELS, GRAY_LEVELS, BLUE_LEVELS, TINTS = 64, 48, 24, 8
@@ -45,7 +45,6 @@ def _gif_palette() -> tuple[bytes, np.ndarray]:
     """(the palette's 768 bytes, the palette index of each colour cell:
     (64**3,) for r >> 2, g >> 2, b >> 2)."""
     import matplotlib
-    from scipy.spatial import cKDTree
 
     from .pictures import PRESSURE_BLUES
 
@@ -57,9 +56,13 @@ def _gif_palette() -> tuple[bytes, np.ndarray]:
     palette = np.vstack([ramp("magma", 0, 1, MAGMA_LEVELS), np.linspace(0, 255, GRAY_LEVELS)[:, None].repeat(3, 1),
                          bands, ramp("Blues", *PRESSURE_BLUES, BLUE_LEVELS), legend]).round().astype(np.uint8)
     palette = np.vstack([palette, palette[-1:].repeat(256 - len(palette), 0)])
+    # the squared distance of each cell centre to each entry, channel by channel (ties: the first entry)
     centres = np.arange(64) * 4 + 1.5
-    cells = np.stack(np.meshgrid(centres, centres, centres, indexing="ij"), -1).reshape(-1, 3)
-    return palette.tobytes(), cKDTree(palette.astype(float)).query(cells)[1].astype(np.uint8)
+    near = [(centres[:, None] - palette[None, :, c]) ** 2 for c in range(3)]   # (64 levels, 256 entries)
+    index = np.empty((64, 64, 64), np.uint8)
+    for r in range(64):
+        index[r] = ((near[0][r] + near[1])[:, None, :] + near[2][None, :, :]).argmin(axis=2)
+    return palette.tobytes(), index.reshape(-1)
 
 
 def warm(fmt: str) -> None:

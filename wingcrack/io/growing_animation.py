@@ -75,9 +75,10 @@ class GrowingAnimation:
         result = StoredResult(self.folder, self.summary, [self.folder / fields_name(k)], [self.folder / faces_name(k)])
         return step_files_key(result, 0), result.fields_of(0), result.faces_of(0)
 
-    def add(self, k: int, record: dict) -> None:
+    def add(self, k: int, record: dict, hurry=lambda: False) -> None:
         """Step k committed (its record as summary.json holds it, its files in
-        the folder): read, and frames drawn as the module doc says."""
+        the folder): read, and frames drawn as the module doc says, until
+        hurry() (the frames left are drawn later, or at the end)."""
         self.seen.pop(k, None)
         files, fields, faces = self._read(k)
         step = StepLook.of(fields, faces)
@@ -89,9 +90,13 @@ class GrowingAnimation:
         self.look = look
         if self.held >= HOLD:   # the steps waiting in memory
             for j in sorted(j for j, s in self.seen.items() if s.data is not None):
+                if hurry():
+                    break
                 self._draw(j)
         if self.held >= SETTLED:   # and every other not drawn with this Look, read again
             for j in sorted(j for j, s in self.seen.items() if s.look != look):
+                if hurry():
+                    break
                 self._draw(j)
         kept = 0
         for j in sorted((j for j, s in self.seen.items() if s.data is not None), reverse=True):
@@ -146,14 +151,17 @@ def begin(folder, title: str, propagation: dict | None, fractured: bool) -> None
     warm(_growing.fmt)
 
 
-def add(folder, records: list) -> None:
+def add(folder, records: list, hurry=lambda: False) -> None:
     """Read and draw the steps committed in `folder`: records [(k, step
-    record)], in step order. Nothing for a folder no run began in."""
+    record)], in step order, until hurry() (those left are read at the
+    end). Nothing for a folder no run began in."""
     if _growing is None or _growing.folder != Path(folder).resolve():
         return
     for k, record in records:
+        if hurry():
+            return
         try:
-            _growing.add(k, record)
+            _growing.add(k, record, hurry)
         except Exception:  # noqa: BLE001 - a frame not drawn now is drawn at the end, or says there why not
             _growing.seen.pop(k, None)
 
