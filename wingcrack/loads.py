@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .contact.constraints import edge_integrals
+
 
 @dataclass
 class Loads:
@@ -46,8 +48,6 @@ def face_pressure_forces(cm, pressures) -> np.ndarray:
     the + side): the pressure pushes the faces apart. The consistent P2 load
     of a constant traction, integrated on the isoparametric edge (quarter
     points included)."""
-    from .contact.constraints import edge_integrals
-
     x = np.asarray(cm.x, float)
     F = np.zeros((len(x), 2))
     p = np.asarray(pressures, float)
@@ -73,10 +73,10 @@ def face_pressure_forces(cm, pressures) -> np.ndarray:
 def case_loads(case, cm, fractures=None) -> Loads:
     """Loads on the CrackMesh `cm`; its `point_nodes` follow `case.bc_points()`.
     fractures: what was meshed (case Fracture or GrowingFracture, in mesh
-    order; default the case's), whose `pressure` loads the faces."""
+    order; default the case's), whose face law's pressure loads the faces."""
     loads = Loads()
     fractures = case.fractures if fractures is None else fractures
-    loads.face_forces = face_pressure_forces(cm, [float(f.pressure) for f in fractures])
+    loads.face_forces = face_pressure_forces(cm, [float(f.law.pressure) for f in fractures])
     loads.mode = case.propagation.load
     points = np.asarray(case.bc_points(), float).reshape(-1, 2)
     for bc in case.bcs:

@@ -188,7 +188,7 @@ def tip_rows(steps) -> list[dict]:
 def dataframe(rows):
     """A pandas DataFrame of `rows` (pandas is optional: ImportError says so)."""
     try:
-        import pandas as pd
+        import pandas as pd  # optional: not a dependency of wingcrack
     except ImportError:
         raise ImportError("to_dataframe() needs pandas (pip install pandas); the same rows as plain dicts: "
                           "wingcrack.results.tip_rows(result.summary['steps'])") from None

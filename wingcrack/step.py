@@ -193,7 +193,7 @@ class Discretisation:
         """The faces' values of every face-node pair, in cm.pairs order
         (io/faces.py writes them): {"jump": (p, 2) [u] = u(+) - u(-) (m),
         "normal_traction": (p,) t_n (Pa, <= 0 in contact; 0 without a normal
-        row), "tangential_traction": (p,) t_t = -mu_t / weight = t.sigma.n
+        row), "tangential_traction": (p,) t_t = -forces_t / weight = t.sigma.n
         (Pa, the shear stress on the face plane, signed as the slip it
         drives; 0 without a tangential row), "state" and "closed"
         (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
@@ -402,7 +402,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far)
+    return Discretisation(cm, problem, contact, np.array([float(f.law.pressure) for f in fractures]), far)
 
 
 def floating_pieces(cm, loads, rows, pieces):

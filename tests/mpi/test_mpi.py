@@ -258,7 +258,7 @@ st.DENSE_ROWS = 0
 b = st.solve_initial(case)
 ka = np.array([[t.KI, t.KII] for t in a.tips]); kb = np.array([[t.KI, t.KII] for t in b.tips])
 k = np.abs(ka - kb).max() / np.abs(ka).max()
-m = np.abs(a.contact.result.mu - b.contact.result.mu).max() / np.abs(a.contact.result.mu).max()
+m = np.abs(a.contact.result.forces - b.contact.result.forces).max() / np.abs(a.contact.result.forces).max()
 if MPI.COMM_WORLD.rank == 0:
     print(b.contact.saddle is not None and b.contact.saddle.updates >= 1 and k < 1e-10 and m < 1e-10)
 """)
@@ -279,7 +279,7 @@ res, rows, sd = b.contact.result, b.contact.rows, b.contact.saddle
 law = rows.friction_law()
 A = rows.normal & res.active
 T = np.where(rows.coulomb, res.state, OPEN).astype(np.int8)
-sign = np.where(T == SLIP, np.sign(-res.mu), 0.0)
+sign = np.where(T == SLIP, np.sign(-res.forces), 0.0)
 C = np.asarray(res.cohesive, bool)
 closed = np.flatnonzero(A)[:3]
 y = np.zeros(len(rows), bool)

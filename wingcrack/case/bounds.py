@@ -5,11 +5,10 @@ accepts the mesher meshes)."""
 from __future__ import annotations
 
 from meshing import admissibility
+from wingcrack.face_law import FACES, SLIP_PROFILES   # noqa: F401 - the face law's choices are the case's
 
 PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
-FACES = ("open", "frictionless", "slip", "coulomb")
-SLIP_PROFILES = ("uniform", "elliptic")
 LOADS = ("scale", "pressure", "fixed")
 SIFS = ("correlation", "interaction")
 #: Relative tolerance (times the domain length scale) for "on the boundary",
@@ -38,5 +37,5 @@ MAX_ITEMS = 1000
 #: beyond linear elasticity, and every product the solver forms stays finite.
 MAX_STRAIN = 0.1
 #: The largest Coulomb coefficient `friction` may be: far above any measured
-#: one, and small enough that mu times a stress of 0.1 E stays finite.
+#: one, and small enough that friction times a stress of 0.1 E stays finite.
 MAX_FRICTION = 100.0

@@ -11,6 +11,7 @@ import numpy as np
 from wingcrack.case.bounds import (FACES, LOADS, MAX_ELEMENTS, MAX_FRICTION, MAX_SECTORS, MAX_STRAIN,
                                    MIN_TIP_FRACTION, PLANES, SIFS, SLIP_PROFILES)
 from wingcrack.case.keys import NON_NEGATIVE, POSITIVE, Limit, Range, Ref, key
+from wingcrack.face_law import FaceLaw
 
 SMALL = "beyond it strains are not small and linear elasticity fails"
 
@@ -77,6 +78,12 @@ class Fracture:
     def length(self) -> float:
         """Arc length (m)."""
         return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+
+    @property
+    def law(self) -> FaceLaw:
+        """The face law these keys give (faces, gap, slip, slip_profile,
+        friction, cohesion, pressure): the one record the run carries."""
+        return FaceLaw.of(self)
 
 
 @dataclass(frozen=True)

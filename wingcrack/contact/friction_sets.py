@@ -21,7 +21,7 @@ def start_states(start: FrictionResult, P: PairProblem) -> tuple:
     ci = P.ci
     T = np.full(len(A), OPEN, np.int8)
     sign = np.zeros(len(A))
-    s = np.sign(-start.mu[ci])
+    s = np.sign(-start.forces[ci])
     closed = start.state[ci] != OPEN
     slip = (start.state[ci] == SLIP) & (s != 0)
     T[ci] = np.where(closed, np.where(slip, SLIP, STICK), OPEN)
@@ -69,28 +69,28 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
     alpha_last = None
     for it in range(1, max_iter + 1):
         if P.solve is not None:
-            mu, jump = P.solve(A, T, sign, C)
+            forces, jump = P.solve(A, T, sign, C)
             alpha = np.zeros(0)
         else:
             sol = solve_state_set(P, A, T, sign, C, alpha_last)
             if sol is None:
                 return None
-            mu, alpha = sol
+            forces, alpha = sol
             alpha_last = alpha
-            jump = jump0 + S @ mu + P.G @ alpha
+            jump = jump0 + S @ forces + P.G @ alpha
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction iteration")
         history.append(int(A.sum()))
         gamma = jump - target                     # on normal rows: w + g
-        A_new = normal & (mu - cn * gamma > 0)
+        A_new = normal & (forces - cn * gamma > 0)
         C_new = C.copy()
         if not fixed:
             C_new[ci] = (A_new[pi] | (gamma[pi] <= 1.5 * P.touch)) & cohesion
         T_new = np.full(m, OPEN, np.int8)
         sign_new = np.zeros(m)
-        F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
-        z = -mu[ci] + ct * (jump[ci] - target[ci])
-        band = STATE_BAND * max(np.max(np.abs(mu), initial=0.0), 1e-300)
+        F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(forces[pi] - cn * gamma[pi], 0.0)
+        z = -forces[ci] + ct * (jump[ci] - target[ci])
+        band = STATE_BAND * max(np.max(np.abs(forces), initial=0.0), 1e-300)
         slipping = np.abs(z) > F + band
         direction = np.sign(z)
         # a slipping pair sticks again only when its increment turns against its direction by more than the
@@ -112,11 +112,11 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
                 np.array_equal(C_new, C):
             eq = A | P.prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
-            if P.G.shape[1] and not _balanced(P, mu):
+            if P.G.shape[1] and not _balanced(P, forces):
                 return None   # a least-squares set (a piece its closed pairs leave free) that no force balances
             if res <= RESIDUAL_RTOL * max(load, np.max(np.abs(jump), initial=0.0)):
                 P.last_states, P.last_C = (A, T, sign), C
-                return result_of(P, mu, alpha, jump, A, T, C, history, fallback=fixed)
+                return result_of(P, forces, alpha, jump, A, T, C, history, fallback=fixed)
             return None
         key = _key(A_new, T_new, sign_new, C_new)
         P.last_states = (A_new, T_new, sign_new)
@@ -131,10 +131,10 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
     return None
 
 
-def _balanced(P: PairProblem, mu) -> bool:
-    """Whether the pieces' equilibrium G^T mu + e = 0 holds to round-off."""
-    terms = np.abs(P.G).T @ np.abs(mu) + (np.abs(P.e) if P.e_scale is None else P.e_scale)
-    return bool(np.all(np.abs(P.G.T @ mu + P.e) <= RESIDUAL_RTOL * np.maximum(terms, 1e-300)))
+def _balanced(P: PairProblem, forces) -> bool:
+    """Whether the pieces' equilibrium G^T forces + e = 0 holds to round-off."""
+    terms = np.abs(P.G).T @ np.abs(forces) + (np.abs(P.e) if P.e_scale is None else P.e_scale)
+    return bool(np.all(np.abs(P.G.T @ forces + P.e) <= RESIDUAL_RTOL * np.maximum(terms, 1e-300)))
 
 
 def states_of(A, T, sign, C) -> np.ndarray:
@@ -147,9 +147,9 @@ def _key(A, T, sign, C) -> bytes:
 
 
 def solve_state_set(P: PairProblem, A, T, sign, C, alpha_last=None):
-    """(mu, alpha) of one state set: jump = target on contact normal,
-    prescribed and sticking rows; mu_t = -sign (b0 [cohesive] + f mu_n) on
-    slipping rows; mu = 0 on open ones; the pieces' equilibrium G^T mu + e
+    """(forces, alpha) of one state set: jump = target on contact normal,
+    prescribed and sticking rows; forces_t = -sign (b0 [cohesive] + f forces_n) on
+    slipping rows; forces = 0 on open ones; the pieces' equilibrium G^T forces + e
     = 0. The slipping rows' forces follow from their normal rows', so they
     are eliminated: one dense solve on the equality rows (and the pieces'
     amplitudes) only. Where that system is singular with floating pieces
@@ -159,14 +159,14 @@ def solve_state_set(P: PairProblem, A, T, sign, C, alpha_last=None):
     partner, f, b0 = law.partner, law.friction, law.cohesion_force
     m = len(P.jump0)
     r = P.G.shape[1]
-    mu = np.zeros(m)
+    forces = np.zeros(m)
     eq = np.flatnonzero((normal & A) | P.prescribed | (T == STICK))
     sl = np.flatnonzero(T == SLIP)
     if len(eq) + len(sl) == 0 and r == 0:
-        return mu, np.zeros(0)
+        return forces, np.zeros(0)
     n = len(eq)
-    # mu_sl = c_sl + D mu_eq: D has -sign f at the column of the slipping row's normal row (if it is an
-    # equality row; else the pair touches without a normal force, mu_n = 0)
+    # forces_sl = c_sl + D forces_eq: D has -sign f at the column of the slipping row's normal row (if it is an
+    # equality row; else the pair touches without a normal force, forces_n = 0)
     col = np.full(m, -1, np.int64)
     col[eq] = np.arange(n)
     c_sl = -sign[sl] * np.where(C[sl], b0[sl], 0.0)
@@ -206,7 +206,7 @@ def solve_state_set(P: PairProblem, A, T, sign, C, alpha_last=None):
             sol = last + np.linalg.lstsq(M, rhs - M @ last, rcond=None)[0]
     if r and not np.all(np.isfinite(sol)):
         return None
-    mu[eq] = sol[:n]
+    forces[eq] = sol[:n]
     if len(sl):
-        mu[sl] = c_sl + coef * (sol[np.maximum(pcol, 0)] if n else 0.0)
-    return mu, sol[n:]
+        forces[sl] = c_sl + coef * (sol[np.maximum(pcol, 0)] if n else 0.0)
+    return forces, sol[n:]

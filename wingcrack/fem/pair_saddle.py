@@ -9,17 +9,16 @@ iteration (contact.friction) is solved with the elasticity whole, the
 multipliers beside the displacements:
 
     [ K      -B ] [u ]   [b]         K, b: the assembled stiffness and load
-    [ L_u   L_mu] [mu] = [t]         (Dirichlet rows as assembled)
+    [ L_u   L_f] [forces] = [t]         (Dirichlet rows as assembled)
 
 with, for each row j: an equality row (closed normal, sticking, prescribed)
-B_j^T u = target_j; a slipping row mu_j + sign_j f_j mu_p = -sign_j c_j
-(p its normal row); an open row mu_j = 0. The upper block is the same for
+B_j^T u = target_j; a slipping row forces_j + sign_j f_j forces_p = -sign_j c_j
+(p its normal row); an open row forces_j = 0. The upper block is the same for
 every set, the lower rows change values, not places: one pattern, factorised
 by MUMPS (LU). The jumps are B^T u.
 
 The active set's first iterations change thousands of rows, its last ones a
-few (a network of 300 fractures: 10,184 rows, then 3,578, 182, 10, 8, 2
-changed): a set whose lower rows differ from the factorised set's in r rows
+few: a set whose lower rows differ from the factorised set's in r rows
 is that matrix plus a rank-r change, solved through the factorisation kept
 (the Sherman-Morrison-Woodbury formula, below) with one solve for the right-
 hand side and one for each row not changed before; the factorisation is
@@ -79,7 +78,7 @@ class PairSaddle:
         m = len(rows)
         self.m = m
         last = comm.rank == comm.size - 1
-        self.owns_mu = last
+        self.owns_forces = last
         start = imap.local_range[0] * bs
         self.start = start
         ghosts = imap.ghosts
@@ -206,7 +205,7 @@ class PairSaddle:
         return self.comm.allreduce(self.B.T @ u_owned)
 
     def unconstrained(self, b: PETSc.Vec) -> np.ndarray:
-        """K^-1 b on this rank's owned dofs: the set with every row open (mu =
+        """K^-1 b on this rank's owned dofs: the set with every row open (forces =
         0), through this system's factorisation (K is not factorised alone);
         from the kept solutions where b lies in their span (the loads are
         affine in the load factor: two such solves a mesh at most). Collective."""
@@ -220,7 +219,7 @@ class PairSaddle:
         return u
 
     def solve_set(self, eq, slip, sign, f, b0_cohesive, target, b: PETSc.Vec):
-        """(u owned (n_owned,), mu (m,)) of one state set: eq (m,) bool equality rows; slip (m,) bool
+        """(u owned (n_owned,), forces (m,)) of one state set: eq (m,) bool equality rows; slip (m,) bool
         slipping rows with sign, friction f and cohesion force b0_cohesive (0 where the pair holds none);
         the rest open. b: the assembled load (the problem's right-hand side). Collective."""
         low = self._prepare(eq, slip, sign, f, b0_cohesive, target, b)
@@ -239,18 +238,18 @@ class PairSaddle:
         arr = self.rhs.getArray()
         arr[:self.n_owned] = b.getArray(readonly=True)[:self.n_owned]
         low = None
-        if self.owns_mu:
+        if self.owns_forces:
             arr[self.n_owned:] = low_rhs
             low = _values_on(self._lower_pattern, self._lower(eq, coef, diag))
         return low
 
     def _parts(self, x):
-        """(u owned, mu (m,) on every rank) of a solution's entries on this rank."""
+        """(u owned, forces (m,) on every rank) of a solution's entries on this rank."""
         u = x[:self.n_owned].copy()
-        mu = self.comm.bcast(x[self.n_owned:].copy() if self.owns_mu else None, root=self.comm.size - 1)
-        if not (np.all(np.isfinite(u)) and np.all(np.isfinite(mu))):
+        forces = self.comm.bcast(x[self.n_owned:].copy() if self.owns_forces else None, root=self.comm.size - 1)
+        if not (np.all(np.isfinite(u)) and np.all(np.isfinite(forces))):
             raise ComputationError("contact: the saddle-point system of a state set is singular (NaN)")
-        return u, mu
+        return u, forces
 
     def _factorised(self, low) -> np.ndarray:
         """The set's solution (this rank's entries) by a new factorisation of
@@ -272,14 +271,14 @@ class PairSaddle:
             raise ComputationError(_factor_failure(self.ksp, None))
         self.factorisations += 1
         self._norm = self.M.norm(PETSc.NormType.INFINITY)
-        self._factored = low if self.owns_mu else True
+        self._factored = low if self.owns_forces else True
         self._Z = {}
         self._solve(self.rhs, self.x)
         return self.x.getArray(readonly=True).copy()
 
     def _set_lower(self, low) -> None:
         """The lower rows' values (last rank's); collective (assembly)."""
-        if self.owns_mu:
+        if self.owns_forces:
             P = self._lower_pattern
             for i in range(self.m):
                 a, z = P.indptr[i], P.indptr[i + 1]
@@ -300,7 +299,7 @@ class PairSaddle:
         if self._factored is None:
             return None
         changed = None
-        if self.owns_mu:
+        if self.owns_forces:
             diff = low - self._factored
             changed = np.flatnonzero(np.add.reduceat(np.abs(diff), self._lower_pattern.indptr[:-1]) > 0.0) \
                 if len(diff) else np.zeros(0, np.int64)
@@ -320,7 +319,7 @@ class PairSaddle:
         x = y.getArray(readonly=True).copy()
         yc = self._at_columns(y)
         c = None
-        if self.owns_mu:
+        if self.owns_forces:
             D = self._difference(diff, changed)
             Zc = np.stack([self._Z[j][1] for j in changed], axis=1)
             C = np.eye(len(changed)) + D @ Zc
@@ -331,7 +330,7 @@ class PairSaddle:
             e.destroy()
             return None
         x -= np.stack([self._Z[j][0] for j in changed], axis=1) @ c
-        ok = self._residual_ok(x, diff if self.owns_mu else None, changed, e)
+        ok = self._residual_ok(x, diff if self.owns_forces else None, changed, e)
         e.destroy()
         if not ok:
             return None
@@ -364,7 +363,7 @@ class PairSaddle:
     def _columns(self, rows) -> None:
         """Z's columns F^-1 e_(n + j) of `rows`, solved together."""
         rhs = np.zeros((self.x.getLocalSize(), len(rows)))
-        if self.owns_mu:
+        if self.owns_forces:
             rhs[self.n_owned + np.asarray(rows, np.int64), np.arange(len(rows))] = 1.0
         for j, column in zip(rows, self._block_solve(rhs)):
             self._Z[j] = (column.getArray(readonly=True).copy(), self._at_columns(column))
@@ -406,7 +405,7 @@ class PairSaddle:
         r = work.getArray()
         r -= self.rhs.getArray(readonly=True)
         xc = self._at_columns(xv)
-        if self.owns_mu:
+        if self.owns_forces:
             r[self.n_owned + changed] += self._difference(diff, changed) @ xc
         res = self.comm.allreduce(float(np.max(np.abs(r), initial=0.0)), op=MPI.MAX)
         scale = self._norm * xv.norm(PETSc.NormType.INFINITY) + self.rhs.norm(PETSc.NormType.INFINITY)

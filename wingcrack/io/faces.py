@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import vtu
+
 #: the contact state of a pair (the codes of wingcrack.contact.friction)
 OPEN, STICK, SLIP = 0, 1, 2
 STATE_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
@@ -71,8 +73,6 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     (see the module doc; zero, OPEN, at tips, which are not pairs) from the
     pair values of face_state; `field_data` ({name: number}) as in
     write_field_arrays, and the state codes."""
-    from .vtu import write_vtu
-
     st = face_state(cm, values)
     edges = np.asarray(cm.crack_edges, dtype=np.int64)
     nodes, local = np.unique(edges, return_inverse=True)
@@ -86,5 +86,5 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     data["state"][where[on_face]] = st["state"][on_face]
     pts = np.c_[np.asarray(cm.x)[nodes], np.zeros(len(nodes))]
     frac = np.asarray(cm.crack_fracture, dtype=np.int64)
-    return write_vtu(path, pts, [("line3", local.reshape(-1, 3))], data, cell_data={"fracture": [frac]},
+    return vtu.write_vtu(path, pts, [("line3", local.reshape(-1, 3))], data, cell_data={"fracture": [frac]},
                      field_data={**(field_data or {}), **STATE_CODES})

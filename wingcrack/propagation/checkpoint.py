@@ -3,10 +3,10 @@
 
 OUT/checkpoint.npz holds what the next step needs and nothing it can
 recompute: the fracture set (polylines, pre-existing range, end states,
-faces, friction, cohesion, the fluid pressure after connection and what
-each joined end met), the load factor, the finished steps'
-records, and the error-estimate size field of the next mesh (so that a
-resumed run meshes exactly as an uninterrupted one). It is written
+the face law by its field names beside them, its fluid pressure the one
+after connection, and what each joined end met), the load factor, the
+finished steps' records, and the error-estimate size field of the next
+mesh (so that a resumed run meshes exactly as an uninterrupted one). It is written
 atomically (temporary file, fsync, rename): a kill leaves the previous
 checkpoint or the new one, never half of one. A fingerprint of the case
 (everything but propagation.steps, so a run may also be resumed with more
@@ -25,8 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import write_atomic
 from ..contact.slip_history import SlipHistory
+from ..face_law import FaceLaw
+from ..io.atomic import write_atomic
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
@@ -131,10 +132,8 @@ def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patc
         "step": k, "load_factor": lam,
         "patch": None if patch is None else patch.to_list(),
         "steps": steps if step_texts is None else _STEPS_MARK,
-        "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
-                       "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion,
-                       "pressure": f.pressure, "joined_to": list(f.joined_to)}
-                      for f in fset.fractures],
+        "fractures": [{"pre": list(f.pre), "ends": list(f.ends), **f.law.to_dict(), "grow": f.grow,
+                       "joined_to": list(f.joined_to)} for f in fset.fractures],
     }
     arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
     if sizes is not None:
@@ -203,10 +202,8 @@ def load(out, case) -> dict:
                          f"case otherwise than this {__version__} (no key of the case differs); start the run "
                          "again without --resume (with --force)")
     try:
-        fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"],
-                                     m["slip"], m["slip_profile"], m["grow"],
-                                     _coefficient(m, "friction"), _coefficient(m, "cohesion"),
-                                     _coefficient(m, "pressure"), _joined_to(m, len(meta["fractures"])))
+        fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), law=FaceLaw.from_dict(m),
+                                     grow=m["grow"], joined_to=_joined_to(m, len(meta["fractures"])))
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
                  "fset": FractureSet(fractures, FractureSet.case_links(case)), "sizes": sizes, "history": history,
@@ -237,16 +234,6 @@ def _points(p) -> np.ndarray:
     if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.all(np.isfinite(p)):
         raise ValueError(f"a polyline of shape {p.shape}")
     return p
-
-
-def _coefficient(m: dict, name: str) -> float:
-    """A fracture's friction, cohesion or pressure: finite and >= 0, as the
-    case reader asks (a NaN would pass into the friction bound or the face
-    loads unseen)."""
-    v = m[name]
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name} {v!r} is not a finite number >= 0")
-    return float(v)
 
 
 def _joined_to(m: dict, n: int) -> list:

@@ -24,8 +24,8 @@ import numpy as np
 #: a trial whose K_eq exceeds KIc by at most this fraction of it has found the
 #: root: K_eq is computed to ~1e-15 relative, and with a slope of K_eq in the load
 #: factor above 1e-6 KIc per unit factor the root is then within the search's
-#: 1e-6 relative tolerance (the Brazilian disc with friction: the secant hit the
-#: root to 7e-16 and the bracket's other end then took 12 halvings to reach it)
+#: 1e-6 relative tolerance (without this test a secant that hits the root to
+#: round-off leaves the bracket's other end to reach it by a dozen halvings)
 AT_ROOT = 1e-12
 
 
@@ -42,9 +42,9 @@ def scales_with_load(case, fset) -> bool:
     m = case.material
     body = m.density * np.linalg.norm(case.body.gravity)
     load = case.propagation.load
-    fixed = load == "pressure" and (any(any(b.value) for b in case.bcs) or any(f.slip for f in fset.fractures))
+    fixed = load == "pressure" and (any(any(b.value) for b in case.bcs) or any(f.law.slip for f in fset.fractures))
     return (load in ("scale", "pressure") and not fixed and not np.any(case.stress.tensor())
-            and body == 0 and all(f.gap == 0 for f in fset.fractures))
+            and body == 0 and all(f.law.gap == 0 for f in fset.fractures))
 
 
 def critical_load_factor(keq: Callable[[float], float], KIc: float, start: float,
