@@ -24,6 +24,7 @@ still hold.
 from __future__ import annotations
 
 import math
+import os
 import signal
 import threading
 
@@ -88,10 +89,11 @@ class NotDrawn(Exception):
 
 class Frames:
     """loop.run's `committed`: the steps committed by a run into `out` (its
-    case's title, propagation_asked and whether it has fractures), sent to the drawing process to draw
-    their frames (io.growing_animation), never waiting for it: a step goes
-    when the call before it is answered, with the steps that came meanwhile.
-    The first call begins the run's frames there (any other run's dropped)."""
+    case's title, propagation_asked and whether it has fractures), sent to
+    the drawing process to draw their frames (io.growing_animation), never
+    waiting for it: a step goes when the call before it is answered, with
+    the steps that came meanwhile. The first call begins the run's frames
+    there (any other run's dropped)."""
 
     def __init__(self, out, title: str, propagation: dict, fractured: bool):
         global _feeding
@@ -157,9 +159,6 @@ def _yielding(fn, *args):
     Linux schedules a thread alone: the worker's own thread, which draws
     the pictures at the end while the run waits for them, keeps its
     priority."""
-    import os
-    import threading
-
     failed = []
 
     def work():
