@@ -244,9 +244,18 @@ def failure(k: int, err: BaseException) -> str:
     return f"failed: step {k}: {' '.join(str(err).split()) or type(err).__name__}"
 
 
-def summary(case, status: str, steps: list, fractures: list, warnings=()) -> Summary:
+def summary(case, status: str, steps: list, fractures: list, warnings=(), run: bool = False) -> Summary:
     """The summary of a result: `steps` (StepRecord), `fractures` the pieces
     [{points, origin, fracture}] of the last finished geometry, warnings
-    about the whole result; one line more when the SIF methods disagreed."""
+    about the whole result; one line more when the SIF methods disagreed.
+    A run's (`run`) says how far it may grow (propagation_asked)."""
     return Summary(case.title, __version__, status, list(steps), fractures,
-                   result_warnings(steps, sifs.method(case)) + list(warnings), KIc=case.material.KIc)
+                   result_warnings(steps, sifs.method(case)) + list(warnings), KIc=case.material.KIc,
+                   propagation=propagation_asked(case) if run else None)
+
+
+def propagation_asked(case) -> dict:
+    """summary.json's "propagation" of a run of `case`: the steps asked and
+    the longest advance of a step (m), so no tip moves farther than their
+    product (the growth animation's view is chosen from it at the first step)."""
+    return {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}

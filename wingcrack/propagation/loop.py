@@ -97,7 +97,7 @@ class RunResult(LastSolve):
 
 
 def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TIMEOUT,
-        resume: bool = False, finishing=None) -> RunResult:
+        resume: bool = False, finishing=None, committed=None) -> RunResult:
     """Grow the case's fractures; see the module doc. `progress(step, info)`
     is called after every step (the CLI's progress bar). With `resume`, go
     on from the checkpoint in `out` (see checkpoint.py). `finishing(summary)`
@@ -106,18 +106,23 @@ def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TI
     add to it: api.run draws the pictures there, so that a finished result
     has them. Ctrl-C (SIGINT) stops at once with status "stopped:
     interrupted", every finished step kept, and raises KeyboardInterrupt
-    again; SIGTERM the same with "stopped: terminated"."""
+    again; SIGTERM the same with "stopped: terminated". `committed(k,
+    record)` is called with every step committed to the folder and its
+    record (a dict as in summary.json), resumed ones first: api.run has the
+    animation's frames drawn there as the run goes."""
     startup.start_processes(mesh_timeout)   # its start-up overlaps the imports of startup.solving_modules()
     with interrupt.watching(), _Run(case, out, mesh_timeout) as run:
-        return _run(run, progress, resume, finishing)
+        return _run(run, progress, resume, finishing, committed)
 
 
-def _run(run, progress, resume, finishing) -> RunResult:
+def _run(run, progress, resume, finishing, committed) -> RunResult:
     """Fig. 8, step after step, with the ends of a run: a stop (the status a
     step returns), a collapse of the body (the end of its loading path), a
     failure (every finished step kept), an interrupt (kept and resumable)."""
     if resume:
         run.resume()
+        for record in run.records:
+            run.tell(committed, record)
     run.begin()
     steps = run.prop.steps
     status = NO_STEPS if not run.records and run.k >= steps else "finished"
@@ -136,6 +141,7 @@ def _run(run, progress, resume, finishing) -> RunResult:
         if stop is not None:
             status = stop
             break
+        run.tell(committed, run.last)
         run.report(progress, k)
     run.finish(status, finishing)
     return run.result(status)
@@ -326,6 +332,15 @@ class _Run:
         if self.records and self.records[-1].step == k:
             self.records.pop()
 
+    def tell(self, committed, record):
+        """committed(k, the record as a dict) of a step committed (see run)."""
+        if committed is None:
+            return
+        try:
+            committed(record.step, record.to_dict())
+        except KeyboardInterrupt as err:
+            raise self.stopped(err)
+
     def report(self, progress, k):
         """The caller's code, after step k is committed: its own exception goes
         up unchanged (not a failure of the computation, and step k stays in
@@ -338,11 +353,12 @@ class _Run:
             raise self.stopped(err)
 
     def summary_now(self, st) -> dict:
-        return step.summary(self.case, st, self.records, self.done.summary(), self.warnings).to_dict()
+        return step.summary(self.case, st, self.records, self.done.summary(), self.warnings, run=True).to_dict()
 
     def write(self, st):
         if self.writes:
-            self.summary_file.write(step.summary(self.case, st, self.records, self.done.summary(), self.warnings))
+            self.summary_file.write(step.summary(self.case, st, self.records, self.done.summary(), self.warnings,
+                                                 run=True))
 
     def write_last(self, st) -> str:
         """Write the run's last status `st`: "", or what the news of the run's
