@@ -1,7 +1,9 @@
 """Writes the performance page's tables (docs/_generated/bench.md) from the
 newest results file of `make bench` (benchmarks/*.json; today
-benchmarks/baseline.json), so that the page shows what the file holds and no
-figure is copied by hand. `make docs` runs it.
+benchmarks/baseline.json), and what the pictures cost from
+benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), so that
+the page shows what the files hold and no figure is copied by hand. `make
+docs` runs it.
 
     python benchmarks/doc_tables.py [RESULTS.json] [-o OUT.md]
 """
@@ -16,8 +18,12 @@ PHASES = ["mesh", "to_dolfinx", "assemble", "factorize", "contact", "solve", "si
           "growth", "estimate", "output"]
 
 
+#: what the pictures cost (its own section, whatever the newest results file)
+PICTURES = ROOT / "benchmarks" / "pictures_cost.json"
+
+
 def newest_results() -> Path:
-    files = sorted(ROOT.glob("benchmarks/*.json"), key=lambda p: p.stat().st_mtime)
+    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p != PICTURES), key=lambda p: p.stat().st_mtime)
     if not files:
         raise SystemExit("benchmarks/doc_tables.py: no results file in benchmarks/")
     return files[-1]
@@ -58,6 +64,26 @@ def render(data: dict, source: str) -> str:
     return "\n".join(out)
 
 
+def render_pictures(data: dict, source: str) -> str:
+    """The pictures' cost: each pair, the medians, and where the time goes."""
+    out = ["## What the pictures cost", "", f"Read from `{source}`: {data['about']}; load average (1 min) "
+           f"{data['load'][0]} before and {data['load'][1]} after, on {data['cores']} cores.", "",
+           f"*How:* {data['how']}.", "",
+           "| pair | wall with pictures s | wall --no-plots s | wall ratio | CPU with s | CPU --no-plots s | CPU ratio |",
+           "|---|---|---|---|---|---|---|"]
+    for i, p in enumerate(data["pairs"], 1):
+        out.append(f"| {i} | {p['wall_with']} | {p['wall_without']} | {p['wall_with'] / p['wall_without']:.2f} | "
+                   f"{p['cpu_with']} | {p['cpu_without']} | {p['cpu_with'] / p['cpu_without']:.2f} |")
+    out += ["", f"Median wall ratio {data['wall_ratio']:.2f}x, CPU ratio {data['cpu_ratio']:.2f}x "
+            f"(the bound: {data['bound']}x).", "",
+            f"Where the pictures' time goes, CPU seconds ({data['phases']['steps']} steps; `during`: in the drawing "
+            "process while the run computes, `end`: after its last step):", "",
+            "| phase | CPU s |", "|---|---|"]
+    out += [f"| {name} | {s} |" for name, s in data["phases"]["seconds"].items()]
+    out += ["", "Counted: " + ", ".join(f"{k} {v}" for k, v in data["phases"]["counts"].items()) + ".", ""]
+    return "\n".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("results", nargs="?", type=Path)
@@ -66,7 +92,10 @@ def main(argv=None):
     path = a.results or newest_results()
     data = json.loads(path.read_text())
     a.out.parent.mkdir(parents=True, exist_ok=True)
-    a.out.write_text(render(data, path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path)))
+    text = render(data, path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path))
+    if PICTURES.exists():
+        text += "\n" + render_pictures(json.loads(PICTURES.read_text()), PICTURES.relative_to(ROOT).as_posix())
+    a.out.write_text(text)
 
 
 if __name__ == "__main__":

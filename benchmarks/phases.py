@@ -1,6 +1,6 @@
 """The issue's phases of a step (issue 16, "Report": mesh, patch, factorise,
 contact, solve, SIFs, output) from the timer keys that summary.json records
-per step (wingcrack/step.py laps them in `discretise` and `finish`,
+per step (wingcrack/step.py and solver.py lap them in `discretise` and `finish`,
 propagation/loop.py in the loop)."""
 from __future__ import annotations
 

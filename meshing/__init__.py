@@ -3,7 +3,8 @@
 `Domain` (meshing/domain.py) is pure numpy; `crack_mesh` (meshing/mesher.py)
 builds a CrackMesh with gmsh and the compiled face kernels (wingcrack_kernels);
 `start_crack_mesh` begins the same in the meshing worker and returns a
-PendingMesh whose result() is the CrackMesh.
+PendingMesh whose result() is the CrackMesh (it holds the worker's call
+itself: meshing/timeout.py).
 """
 
 from meshing.mesher import CrackMesh, PendingMesh, TipNodes, crack_mesh, start_crack_mesh

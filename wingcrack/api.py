@@ -14,10 +14,17 @@ import contextlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import drawing, interrupt, step
+from . import drawing, interrupt, startup, step
+from .case import Case
+from .errors import CaseError, ComputationError, FolderError, WriteError
 from .io import outdir
 from .io.outdir import check_folder_name
 from .io.plotting import plot   # plot: the public `wingcrack.plot`, one function
+from .io.summary import write_summary
+from .parallel import on_world_root
+from .progress import ProgressBar
+from .propagation import checkpoint
+from .propagation.fracture_set import FractureSet
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -50,9 +57,6 @@ class SifResult(LastSolve):
 def _require_case(case) -> None:
     """CaseError unless `case` is a wingcrack.Case (a dict, a path or None
     would otherwise fail deep inside with an AttributeError)."""
-    from .case import Case
-    from .errors import CaseError
-
     if not isinstance(case, Case):
         raise CaseError("case", f"expected a wingcrack.Case, got {type(case).__name__} (build one with "
                         "wingcrack.Case.from_toml(path) or wingcrack.Case.from_dict(table))")
@@ -77,24 +81,16 @@ def sif(case, out=None, force: bool = False) -> SifResult:
     if out is not None:
         check_folder_name(out)
     interrupt.forget()   # a stop before this call (a run's, caught by the caller) is past
-    step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
-    if out is not None:
-        drawing.start()   # matplotlib's import, too, while the case computes
+    startup.start_processes(pictures=out is not None)   # gmsh's and matplotlib's imports overlap ours
     with _folder_lock(out, create=True):
         return _sif(case, out, force)
 
 
 def _sif(case, out, force) -> SifResult:
-    from mpi4py import MPI
-
-    from .errors import ComputationError, WriteError
-    from .io.summary import write_summary
-    from .propagation.fracture_set import FractureSet
-
     if out is not None:
         out = outdir.prepare_for_result(out, force)
     case = case.at_start()   # with a pump: t = 0, the network at its initial pressure
-    writes = out is not None and MPI.COMM_WORLD.rank == 0
+    writes = out is not None and on_world_root()
     pieces = FractureSet.from_case(case).summary()
 
     def write(summary):
@@ -174,9 +170,7 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
                         f"{type(progress).__name__}")
     if out is not None:
         check_folder_name(out)
-    step.start_meshing()   # its start-up (gmsh's import) overlaps ours (MPI's, DOLFINx's)
-    if out is not None:
-        drawing.start()   # matplotlib's import, too, while the case computes
+    startup.start_processes(pictures=out is not None)   # gmsh's and matplotlib's imports overlap ours
     with _folder_lock(out, create=not resume):
         return _run(case, out, progress, plots, force, resume)
 
@@ -191,15 +185,9 @@ def _folder_lock(folder, create: bool):
 
 
 def _run(case, out, progress, plots, force, resume):
-    from mpi4py import MPI
-
-    from .errors import ComputationError, WriteError
-    from .propagation import loop
+    from .propagation import loop   # overlap: its imports (scipy's optimizers) while the worker starts
 
     if resume:
-        from .errors import FolderError
-        from .propagation import checkpoint
-
         out = outdir.open_to_resume(out)
         try:
             state = checkpoint.load(out, case)
@@ -208,17 +196,18 @@ def _run(case, out, progress, plots, force, resume):
         outdir.check_resumable(out, len(state["steps"]), case.propagation.steps)
     elif out is not None:
         out = outdir.prepare_for_result(out, force)
-    draw = out is not None and MPI.COMM_WORLD.rank == 0
+    draw = out is not None and on_world_root()
     pictures = {}
 
     def finishing(summary: dict) -> list:
         return _pictures(out, summary, plots, plots, pictures)
 
-    options = dict(resume=resume, finishing=finishing if draw else None)
+    # the animation's frames drawn in the drawing process as the steps are committed
+    frames = drawing.Frames(out, case.title, step.propagation_asked(case), bool(case.fractures)) if draw and plots \
+        else None
+    options = dict(resume=resume, finishing=finishing if draw else None, committed=frames)
     try:
         if progress is True or progress is False or progress is None:
-            from .progress import ProgressBar
-
             with ProgressBar(case.propagation.steps, show=bool(progress)) as bar:
                 result = loop.run(case, out, progress=bar, **options)
         else:

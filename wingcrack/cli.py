@@ -20,7 +20,7 @@ from pathlib import Path
 from wingcrack.version import __version__
 from wingcrack.errors import CaseError, ComputationError, FolderError
 from wingcrack.parallel import world_rank
-from wingcrack.progress import ProgressBar
+from wingcrack.progress import Heartbeat, ProgressBar
 from wingcrack import interrupt
 
 PROG = "wingcrack"
@@ -132,7 +132,7 @@ def _stopped(err: BaseException, args=None) -> int:
     keeps for --resume (those its checkpoint holds)."""
     kept = None
     if args is not None and args.command == "run" and getattr(args, "out", None) is not None:
-        from wingcrack.io.outdir import resumable_steps   # numpy's import: not for --help or a usage error
+        from wingcrack.io.outdir import resumable_steps   # --help: numpy's import, for commands only
 
         kept = resumable_steps(Path(args.out))
     if world_rank() == 0:
@@ -141,7 +141,7 @@ def _stopped(err: BaseException, args=None) -> int:
 
 
 def _command(args) -> int:
-    from wingcrack.io.outdir import folder_path, locked   # numpy's import: not for --help or a usage error
+    from wingcrack.io.outdir import folder_path, locked   # --help: as in _stopped
 
     if getattr(args, "out", None) is not None:
         args.out = folder_path(args.out)
@@ -149,7 +149,7 @@ def _command(args) -> int:
         args.folder = folder_path(args.folder)
         with locked(args.folder, create=False):
             return _plot(args)
-    from wingcrack.case import Case
+    from wingcrack.case import Case   # --help: as above
 
     case = Case.from_toml(args.case)
     if args.command == "check":
@@ -158,7 +158,7 @@ def _command(args) -> int:
         return EXIT_OK
     if args.command == "crosscheck":
         return _crosscheck(case, args)
-    from wingcrack import api  # DOLFINx is imported only for sif/run
+    from wingcrack import api   # check: the pipeline is imported for sif and run only
 
     with locked(args.out, create=not getattr(args, "resume", False)):
         if args.command == "run":
@@ -166,8 +166,6 @@ def _command(args) -> int:
                 result = api.run(case, args.out, progress=progress, plots=args.plots, force=args.force,
                                  resume=args.resume)
         else:
-            from wingcrack.progress import Heartbeat
-
             with Heartbeat(args.quiet):
                 result = api.sif(case, args.out, force=args.force)
     if result is not None and world_rank() == 0:  # where the results are, even with --quiet
@@ -182,7 +180,7 @@ def _names(files: dict) -> str:
 
 
 def _plot(args) -> int:
-    from wingcrack import api
+    from wingcrack import api   # check: as in _command
 
     files = api.plot(args.folder)
     print(f"{PROG}: pictures in {args.folder}/: {_names(files)}")
@@ -190,13 +188,13 @@ def _plot(args) -> int:
 
 
 def _crosscheck(case, args) -> int:
-    from wingcrack.crosscheck import TOLERANCE, crosscheck
+    from wingcrack.crosscheck import TOLERANCE, crosscheck   # check: scikit-fem and DOLFINx for crosscheck only
 
     tol = args.tol or TOLERANCE
     result = crosscheck(case)
     report = dict(result.as_dict(), tolerance=tol, agree=result.agrees(tol))
     if args.out is not None:
-        from wingcrack.io.summary import write_summary
+        from wingcrack.io.summary import write_summary   # --help: numpy's import
 
         write_summary(args.out / "crosscheck.json", report)
     if not args.quiet:
@@ -259,7 +257,7 @@ def describe(case) -> str:
         f"thickness {_g(m.thickness)} m" + (f", density {_g(m.density)} kg/m^3" if m.density else "")
     )
     tips = case.tips()
-    from wingcrack.case import REL_TOL
+    from wingcrack.case import REL_TOL   # --help: numpy's import
 
     tol = REL_TOL * case.length_scale
     mouths = sum(bool(geo.on_boundary(p, tol)) for f in case.fractures for p in (f.points[0], f.points[-1]))
@@ -317,7 +315,7 @@ def describe(case) -> str:
 
 def _injection_text(case) -> list:
     """`check`'s lines on the pump: where, the schedule, the fluid."""
-    from wingcrack.propagation.schedule import Schedule
+    from wingcrack.propagation.schedule import Schedule   # --help: numpy's import
 
     inj = case.injection
     at = inj.point if inj.point is not None else case.fractures[inj.fracture].midpoint

@@ -1,8 +1,7 @@
 """Running under mpirun/srun: which rank this process is and whether a
 launcher started it, doing a piece of work on rank 0 only with every rank
-getting its result (or its error), now (on_root) or begun now and collected
-later (RootPending), and rounding what gmsh is given so that any number of
-ranks meshes alike."""
+getting its result or its error (on_root), and rounding what gmsh is given
+so that any number of ranks meshes alike."""
 from __future__ import annotations
 
 import os
@@ -54,37 +53,12 @@ def on_root(make):
     return value
 
 
-class RootPending:
-    """start() begun on rank 0 only, returning something with .result() and
-    .cancel() (a meshing.PendingMesh); result() is collective, as on_root:
-    rank 0 collects it and every rank gets its value or its error. An error
-    of start() itself is kept and raised by result() on every rank, so that
-    rank 0 alone never raises where the others go on (they would wait for it
-    in the next collective call forever)."""
+def on_world_root() -> bool:
+    """Whether this process is rank 0 of MPI_COMM_WORLD (MPI started: work
+    that rank 0 begins alone, such as a mesh, is then shared by on_root)."""
+    from mpi4py import MPI  # here: its import starts MPI (see on_root)
 
-    def __init__(self, start):
-        from mpi4py import MPI  # here: its import starts MPI (see on_root)
-
-        self._pending, self._error = None, None
-        if MPI.COMM_WORLD.rank == 0:
-            try:
-                self._pending = start()
-            except Exception as err:  # noqa: BLE001 - raised again by result(), on every rank
-                self._error = err
-
-    def result(self):
-        def collect():
-            if self._error is not None:
-                raise self._error
-            pending, self._pending = self._pending, None
-            return pending.result()
-        return on_root(collect)
-
-    def cancel(self) -> None:
-        """Abandon it (rank 0's work is stopped); local, no communication."""
-        if self._pending is not None:
-            self._pending.cancel()
-            self._pending = None
+    return MPI.COMM_WORLD.rank == 0
 
 
 def snap(value, grid: float):

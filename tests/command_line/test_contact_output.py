@@ -210,6 +210,7 @@ def test_face_tractions_of_a_glued_crack_are_the_uniform_stress():
     exactly t * weight)."""
     from builders import square_plate_with_cracks
     from wingcrack.case import Case
+    from wingcrack.face_values import contact_record, face_values
     from wingcrack.step import solve_initial
 
     t = np.array([np.cos(0.3), np.sin(0.3)])
@@ -219,11 +220,11 @@ def test_face_tractions_of_a_glued_crack_are_the_uniform_stress():
     d = square_plate_with_cracks(20.0, [[-t, t]], (sxx, syy, sxy), size=2.0, tip_size=0.1)
     d["fractures"][0].update({"faces": "slip", "slip": 0.0})
     sol = solve_initial(Case.from_dict(d))
-    v = sol.face_values()
+    v = face_values(sol)
     scale = np.abs(sigma).max()
     assert n @ sigma @ n < 0 and abs(t @ sigma @ n) > 0.05 * scale   # pressed shut and sheared
     assert np.abs(v["normal_traction"] - n @ sigma @ n).max() < 1e-10 * scale
     assert np.abs(v["tangential_traction"] - t @ sigma @ n).max() < 1e-10 * scale
     assert v["closed"].all() and np.all(v["state"] == SLIP) and not v["slip_increment"].any()
-    rec = sol.contact_record()
+    rec = contact_record(sol)
     assert (rec.closed, rec.stick, rec.slip, rec.fallback) == (len(sol.cm.pairs), 0, len(sol.cm.pairs), False)

@@ -22,7 +22,7 @@ from wingcrack.contact.friction import SLIP
 from wingcrack.contact.slip_history import pair_arc_lengths
 from wingcrack.propagation import checkpoint
 from wingcrack.propagation.fracture_set import FractureSet
-from wingcrack.step import Timer, discretise
+from wingcrack.step import Carried, Timer, discretise
 
 ROOT = Path(__file__).resolve().parents[2]
 WINGCRACK = Path(sys.executable).with_name("wingcrack")
@@ -97,10 +97,10 @@ def test_the_slip_history_carries_the_converged_slip_across_the_remesh(tmp_path)
     expect = np.array([lookup[tuple(np.round(p, 12))] for p in plus])
     np.testing.assert_allclose(again, expect, atol=1e-10 * scale)
     arcs0 = pair_arc_lengths(d0.cm, first.fractures)
-    d0.release()
+    d0.solver.release()
 
     grown = ck["fset"]
-    d1 = discretise(case, grown.fractures, Timer(), sizes=ck["sizes"], history=history)
+    d1 = discretise(case, grown.fractures, Timer(), carried=Carried(sizes=ck["sizes"], history=history))
     ref = d1.contact.reference
     rows = d1.contact.rows
     arcs1 = pair_arc_lengths(d1.cm, grown.fractures)[rows.pair[rows.coulomb]]
@@ -134,7 +134,7 @@ def test_the_slip_history_carries_the_converged_slip_across_the_remesh(tmp_path)
     # the new wings (arc beyond the pre-existing part) start from zero slip
     wing = (arcs1 < -1e-12 * R) | (arcs1 > pre_length + 1e-12 * R)
     assert wing.any() and np.all(ref[wing] == 0.0)
-    d1.release()
+    d1.solver.release()
 
 
 def test_a_killed_coulomb_run_resumes_to_the_same_geometry_and_slip(tmp_path, run6):

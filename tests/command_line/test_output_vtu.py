@@ -242,7 +242,7 @@ def solved_disc():
 
     case = Case.from_toml(Path(__file__).parents[2] / "cases" / "brazilian_disc_45_open.toml")
     disc = discretise(case, FractureSet.from_case(case).fractures, Timer())
-    disc.solve(1.0)
+    disc.solver.solve(1.0)
     return disc
 
 

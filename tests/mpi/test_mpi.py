@@ -257,11 +257,12 @@ def test_the_saddle_route_on_two_ranks_is_the_dense_one(tmp_path):
     script.write_text(f"""
 import numpy as np
 from mpi4py import MPI
+import wingcrack.solver
 import wingcrack.step as st
 from wingcrack.case import Case
 case = Case.from_toml({str(ROOT / "cases" / "multi_fractures_friction.toml")!r})
 a = st.solve_initial(case)
-st.DENSE_ROWS = 0
+wingcrack.solver.DENSE_ROWS = 0
 b = st.solve_initial(case)
 ka = np.array([[t.KI, t.KII] for t in a.tips]); kb = np.array([[t.KI, t.KII] for t in b.tips])
 k = np.abs(ka - kb).max() / np.abs(ka).max()
@@ -277,10 +278,11 @@ if MPI.COMM_WORLD.rank == 0:
 
 _RESPOND = """
 import json, numpy as np
+import wingcrack.solver
 import wingcrack.step as st
 from wingcrack.case import Case
 from wingcrack.contact.friction import OPEN, SLIP, STICK
-st.DENSE_ROWS = 0
+wingcrack.solver.DENSE_ROWS = 0
 b = st.solve_initial(Case.from_toml({case!r}))
 res, rows, sd = b.contact.result, b.contact.rows, b.contact.saddle
 law = rows.friction_law()

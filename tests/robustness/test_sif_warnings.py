@@ -1,4 +1,4 @@
-"""When the two SIF methods' disagreement is news (step.sif_warnings).
+"""When the two SIF methods' disagreement is news (sif_agreement.sif_warnings).
 
 A tip is flagged when displacement correlation and the interaction integral
 differ by more than 1 % of the tip's own K and by more than 0.5 % of the
@@ -25,7 +25,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from wingcrack.step import result_warnings, sif_warnings
+from wingcrack.sif_agreement import result_warnings, sif_warnings
 
 ROOT = Path(__file__).resolve().parents[2]
 KMAX = 2.0e6    # the step's largest K (Pa m^0.5)

@@ -45,7 +45,7 @@ def plate(faces, pins):
 def solve_cut(case):
     cut = replace(case.fractures[0], points=np.array([[0.0, 0.5], [1.0, 0.5]]))  # side to side
     d = discretise(case, [cut], Timer())
-    d.solve(1.0)
+    d.solver.solve(1.0)
     return d.problem.u.x.array
 
 

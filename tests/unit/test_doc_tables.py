@@ -1,6 +1,7 @@
 """The performance page's tables (benchmarks/doc_tables.py) carry the figures of
 the results file they are read from: every case's wall, steps and phase total,
-and every target, with nothing typed by hand."""
+and every target; every pair and phase of what the pictures cost; with
+nothing typed by hand."""
 import json
 import sys
 from pathlib import Path
@@ -27,3 +28,19 @@ def test_tables_carry_every_figure_of_the_results_file(tmp_path):
             assert f"{case['phases']['total'] / case['steps']:.3f}" in row
     for name in data["targets"]:
         assert name in rows
+
+
+def test_the_pictures_cost_carries_every_pair_and_phase():
+    data = json.loads((ROOT / "benchmarks" / "pictures_cost.json").read_text())
+    text = doc_tables.render_pictures(data, "benchmarks/pictures_cost.json")
+    rows = [line.split("|")[1:-1] for line in text.splitlines() if line.startswith("| ")]
+    pairs = {r[0].strip(): [c.strip() for c in r[1:]] for r in rows if r[0].strip().isdigit()}
+    assert len(pairs) == len(data["pairs"])
+    for i, p in enumerate(data["pairs"], 1):
+        # the columns in their order: a swapped pair of columns fails
+        assert pairs[str(i)] == [str(p["wall_with"]), str(p["wall_without"]), f"{p['wall_with'] / p['wall_without']:.2f}",
+                                 str(p["cpu_with"]), str(p["cpu_without"]), f"{p['cpu_with'] / p['cpu_without']:.2f}"]
+    phases = {r[0].strip(): r[1].strip() for r in rows if not r[0].strip().isdigit()}
+    for name, seconds in data["phases"]["seconds"].items():
+        assert phases[name] == str(seconds)
+    assert f"Median wall ratio {data['wall_ratio']:.2f}x, CPU ratio {data['cpu_ratio']:.2f}x" in text

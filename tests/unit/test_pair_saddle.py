@@ -1,5 +1,5 @@
 """fem.pair_saddle (each state set as one sparse saddle-point system, for pair
-systems above step.DENSE_ROWS) against the dense route (the pair compliance
+systems above solver.DENSE_ROWS) against the dense route (the pair compliance
 from MUMPS's Schur complement) on the same meshes: two direct solves of the
 same discrete contact problem, so the multipliers, the jumps, the states and
 the SIFs agree to round-off. The shipped cases with contact of both kinds:
@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import wingcrack.solver as solver
 import wingcrack.step as step
 from wingcrack.case import Case
 
@@ -21,7 +22,7 @@ CASES = Path(__file__).resolve().parents[2] / "cases"
 def test_the_saddle_route_is_the_dense_one(name, monkeypatch):
     case = Case.from_toml(CASES / f"{name}.toml")
     dense = step.solve_initial(case)
-    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
     sparse = step.solve_initial(case)
     assert sparse.contact.saddle is not None and dense.contact.saddle is None
     a, b = dense.contact.result, sparse.contact.result
@@ -50,7 +51,7 @@ def test_a_run_through_the_saddle_route_grows_as_the_dense_one(monkeypatch, tmp_
     case = Case.from_toml(CASES / "multi_fractures_shear.toml")
     case = replace(case, propagation=replace(case.propagation, steps=3))
     dense = wingcrack.run(case, out=None, plots=False)
-    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
     sparse = wingcrack.run(case, out=None, plots=False)
     # the search ends at K_eq = KIc to 1e-12 from either route's round-off-equal SIFs
     np.testing.assert_allclose([s["load_factor"] for s in sparse.steps], [s["load_factor"] for s in dense.steps],
@@ -67,7 +68,7 @@ def test_a_set_near_the_factorised_one_is_solved_by_an_update_as_by_a_new_factor
     from wingcrack.fem import pair_saddle
 
     case = Case.from_toml(CASES / "parallel_fractures_cohesion.toml")
-    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
     kept = step.solve_initial(case)
     monkeypatch.setattr(pair_saddle, "REUSE_ROWS", 0)
     anew = step.solve_initial(case)
@@ -124,7 +125,7 @@ def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
 
     case = Case.from_toml(CASES / "multi_fractures_friction.toml")
     dense = step.solve_initial(case)
-    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
     sparse = step.solve_initial(case)
     res, rows = dense.contact.result, dense.contact.rows
     law, S, target = rows.friction_law(), dense.contact.op.S, res.reference
@@ -164,7 +165,7 @@ def test_the_saddle_system_is_ordered_as_asked(monkeypatch):
     from wingcrack.fem import pair_saddle
 
     assert pair_saddle.ORDERING == 2
-    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
     case = Case.from_toml(CASES / "three_fractures_friction.toml")
     for ordering in (2, 0):
         monkeypatch.setattr(pair_saddle, "ORDERING", ordering)

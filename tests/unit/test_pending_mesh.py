@@ -110,13 +110,16 @@ def test_ctrl_c_while_waiting_kills_the_worker():
     assert worker.call(sum, ([1],), 30.0) == 1
 
 
-def test_an_error_of_the_start_is_raised_where_the_result_is_collected():
-    from wingcrack.parallel import RootPending
+def test_an_error_of_the_start_is_raised_where_the_result_is_collected(monkeypatch):
+    from meshing import mesher   # where wingcrack.mesh_request looks start_crack_mesh up
+    from wingcrack.mesh_request import MeshRequest
 
-    def start():
+    def start(*args, **kw):
         raise ValueError("mesh.tip_size: simulated")
 
-    pending = RootPending(start)   # nothing raised here: the other ranks would never hear of it
+    monkeypatch.setattr(mesher, "start_crack_mesh", start)
+    case = plate_case(1)
+    pending = MeshRequest(case, case.fractures, None, 60.0)   # nothing raised here: the others would never hear
     with pytest.raises(ValueError, match="simulated"):
         pending.result()
 
@@ -190,7 +193,7 @@ def test_a_mesh_that_fails_is_the_failure_of_its_own_step(tmp_path, monkeypatch,
     the start, or in gmsh), step 1 fails and step 0 stays whole on disk."""
     import json
 
-    from meshing import mesher   # where wingcrack.step looks start_crack_mesh up
+    from meshing import mesher   # where wingcrack.mesh_request looks start_crack_mesh up
     from wingcrack.api import run
     from wingcrack.errors import ComputationError
 

@@ -93,5 +93,5 @@ def test_pair_force_responses_in_the_span_of_the_last_two_are_their_combination(
         assert ref.contact.op.span_solves == 0
         u, u_ref = disc.problem.u.x.array, ref.problem.u.x.array
         assert np.abs(u - u_ref).max() <= 1e-12 * np.abs(u_ref).max(), lam
-        ref.release()
+        ref.solver.release()
     assert spanned == [max(0, k - solves_before_span + 1) for k in range(len(factors))]

@@ -273,7 +273,7 @@ def test_pressure_on_wings_and_joined_fractures():
     # and each fracture's pressure matters: the branch's and the link's swapped is seen
     swapped = xc.SkfemProblem(case, cm, [3e6, 2e6, 1e6, 4e6], load_factor=1.7).solve()
     assert np.abs(swapped - u_wc).max() > 1e-3 * scale
-    disc.release()
+    disc.solver.release()
 
 
 def test_cli_injection_case_agrees(capsys):

@@ -40,11 +40,14 @@ import pytest
 
 import wingcrack
 from builders import square_plate_with_cracks
+from wingcrack import sifs
 from wingcrack.case import Case
 from wingcrack.contact.constraints import constraint_rows
 from wingcrack.contact.friction import SLIP, STICK
 from wingcrack.fem.contact_problem import ContactProblem
+from wingcrack.face_values import contact_record, face_values
 from wingcrack.io.faces import face_state
+from wingcrack.solver import Solver
 from wingcrack.step import Discretisation, Timer, discretise
 
 A, L, SIGMA, E, NU = 1.0, 100.0, 1.0e6, 10e9, 0.25
@@ -104,7 +107,7 @@ def plates():
 
     yield get
     for d in made.values():
-        d.release()
+        d.solver.release()
 
 
 def solve(plates, case):
@@ -115,15 +118,15 @@ def solve(plates, case):
     problem = shared.problem
     problem.sigma0.value[:] = case.stress.tensor()
     contact = ContactProblem(problem, constraint_rows(shared.cm, case.fractures))
-    disc = Discretisation(shared.cm, problem, contact, shared.pressures)
-    disc.solve(1.0)
-    return disc, disc.sifs(case, [f.points for f in case.fractures])
+    disc = Discretisation(shared.cm, Solver(problem, contact), shared.fluid)
+    disc.solver.solve(1.0)
+    return disc, sifs.at_tips(case, disc, [f.points for f in case.fractures])
 
 
 def faces(disc):
     """face_state of the solution: position, opening, slip, tractions, slip
     increment, state, closed per pair."""
-    return face_state(disc.cm, disc.face_values())
+    return face_state(disc.cm, face_values(disc))
 
 
 def check_sifs(tips, KII):
@@ -169,7 +172,7 @@ def test_shared_plate_is_sif():
     try:
         _, shared = solve(lambda plane: made, case)
     finally:
-        made.release()
+        made.solver.release()
     direct = wingcrack.sif(case).tips
     for a, b in zip(shared, direct):
         for k in ("KI", "KII", "KI_M", "KII_M"):
@@ -194,7 +197,7 @@ def friction_residuals(disc, case, jscale):
     -t_t t, opposes it), no increment on sticking pairs; tractions relative
     to the largest face traction, increments to `jscale` (m)."""
     f = case.fractures[0]
-    v = disc.face_values()
+    v = face_values(disc)
     tn, tt, ds, state = (np.asarray(v[k]) for k in ("normal_traction", "tangential_traction", "slip_increment",
                                                       "state"))
     bound = f.cohesion + f.friction * np.abs(tn)
@@ -242,7 +245,7 @@ def test_coulomb_closed_crack(plates, plane, beta, friction, cohesion):
         bound = cohesion + friction * (-syy)
         assert np.allclose(st["tangential_traction"][away], np.sign(tau) * bound, rtol=1e-2)
     # verification 3: the friction law and non-penetration hold on the faces
-    rec = disc.contact_record()
+    rec = contact_record(disc)
     for name, value in {**rec.friction, **rec.kkt, **friction_residuals(disc, case, free_slip)}.items():
         assert value < LAW_TOL, (name, value)
 

@@ -251,7 +251,7 @@ def test_the_load_limit_status_says_when_nothing_scales():
     """Only an in-situ stress (not scaled) and zero displacements: the load
     factor multiplies nothing, and the status says so (it read as if a
     larger max_load_factor could help)."""
-    from wingcrack.propagation.loop import NOTHING_SCALES
+    from wingcrack.propagation.loading import NOTHING_SCALES
 
     d = square_plate_with_cracks(L, [[[-A, 0.0], [A, 0.0]]], (0.0, 1e4, 0.0), size=10 * A, tip_size=0.05)
     d["propagation"] = {"steps": 2, "length": 0.1}

@@ -121,7 +121,7 @@ def test_a_warning_just_above_1_percent_does_not_read_1_percent():
     K" under a "more than 1 %" rule; it gives three digits."""
     from types import SimpleNamespace
 
-    from wingcrack.step import sif_warnings
+    from wingcrack.sif_agreement import sif_warnings
 
     tip = SimpleNamespace(fracture=2, end=0, KI=0.0, KII=-1.0104e6, KI_M=0.0, KII_M=-1.0e6)
     (line,) = sif_warnings([tip])

@@ -60,4 +60,4 @@ def test_open_faces_with_pressure_equal_the_traction_written_by_hand(crack):
     scale = np.abs(u_pressure).max()
     assert scale > 0
     np.testing.assert_allclose(u.x.array, u_pressure, atol=1e-10 * scale)
-    disc.release()
+    disc.solver.release()

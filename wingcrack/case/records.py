@@ -222,7 +222,8 @@ class Propagation:
                    doc="Which SIFs drive growth (the critical load, the kink angle theta, K_eq and G): displacement "
                        "correlation (the paper's) or the interaction integral (at a tip where it has no room, "
                        "correlation). Both are always reported. Use `\"interaction\"` for nearly incompressible "
-                       "plane strain (nu above about 0.495), where correlation locks; see the README.")
+                       "plane strain (nu above about 0.495), where correlation locks; see \"Nearly incompressible plane "
+                       "strain\" in [the method](theory/method.md).")
     connect_pressure: bool = key(True, doc="Fractures joined through a T-junction, linked tip to tip or "
                                  "crossing are hydraulically connected: after each step's growth every connected "
                                  "group takes "

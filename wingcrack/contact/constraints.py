@@ -27,6 +27,7 @@ import numpy as np
 import wingcrack_kernels as K
 
 from ..face_law import FACES
+from .friction import FrictionRows
 
 NORMAL, TANGENTIAL = 0, 1
 
@@ -65,8 +66,6 @@ class ConstraintRows:
 
     def friction_law(self):
         """contact.friction.FrictionRows of these rows."""
-        from .friction import FrictionRows
-
         return FrictionRows(self.coulomb, self.partner, self.friction, self.cohesion * self.weight)
 
 

@@ -42,6 +42,7 @@ import numpy as np
 from .. import interrupt
 from ..errors import FolderError
 from ..parallel import launched
+from .atomic import temporary_of
 
 SUMMARY = "summary.json"
 FIELDS_PVD, FACES_PVD = "fields.pvd", "faces.pvd"
@@ -74,8 +75,6 @@ def result_files(folder) -> list[Path]:
 def leftovers(folder) -> list[Path]:
     """The temporary files of result files that a killed run was writing
     (io/atomic.py): never part of a result, removed when a result is made."""
-    from .atomic import temporary_of
-
     folder = Path(folder)
     if not folder.is_dir():
         return []
@@ -116,7 +115,7 @@ def _world():
     """MPI.COMM_WORLD where the folder's work is collective (launched), else None."""
     if not launched():
         return None
-    from mpi4py import MPI   # here: a serial command never starts MPI
+    from mpi4py import MPI   # MPI: its import starts MPI, which a serial command never does
 
     return MPI.COMM_WORLD
 
@@ -341,7 +340,7 @@ class StoredResult:
         increment: its pairs in contact are SLIP (frictionless or prescribed
         slip, as they were), the others OPEN, and the two fields are absent.
         One written before fluid pressure reads with pressure 0."""
-        from .faces import FLOAT_FIELDS, OPEN, SLIP, STATE_NAMES
+        from .faces import FLOAT_FIELDS, OPEN, SLIP, STATE_NAMES   # check: reads no face file (nor io.vtu)
 
         if not self.summary.get("fractures"):
             # a case without fractures: its face file has no cells, which meshio writes but cannot read
@@ -369,7 +368,7 @@ def edge_states(node_states: np.ndarray) -> np.ndarray:
     unless both end nodes are in contact (a tip node never is); then SLIP
     when a node of it slips, else STICK (a sticking edge has no slip
     increment anywhere)."""
-    from .faces import OPEN, SLIP, STICK
+    from .faces import OPEN, SLIP, STICK   # check: as in faces_of
 
     s = np.asarray(node_states).reshape(-1, 3)
     closed = (s[:, 0] != OPEN) & (s[:, 2] != OPEN)
@@ -419,7 +418,7 @@ class StepFaces:
 
 def _read(path):
     # meshio.vtu.read, not meshio.read: the latter prints and exits on a broken file
-    from meshio import vtu
+    from meshio import vtu   # check: meshio is imported to read results only
 
     try:
         return vtu.read(str(path))

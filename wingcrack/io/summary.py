@@ -6,6 +6,8 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
+
 from .atomic import unwritable, write_atomic
 
 #: where the steps go in the text of the rest of a summary (SummaryWriter): no case text holds NULs
@@ -14,8 +16,6 @@ _STEPS_MARK = "\0steps of the summary\0"
 
 def _clean(obj):
     """JSON-safe copy: numpy scalars/arrays to Python; NaN/inf are refused."""
-    import numpy as np
-
     if isinstance(obj, dict):
         return {str(k): _clean(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

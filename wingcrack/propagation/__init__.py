@@ -1,7 +1,11 @@
 """Wing-crack propagation: the loop of the paper's Fig. 8, one concept a file:
-critical_load (the load factor at which the first tip reaches KIc),
-growth (one step's growth of every tip), growth_law (how far each tip
-advances), fracture_set (the evolving polylines and tip states), joining
-(T-junctions and the outer boundary), checkpoint and interrupt (stopping
-and going on), loop (discretise -> critical load -> solve -> SIFs ->
-growth -> next mesh, each step through wingcrack.step)."""
+loop (discretise -> the step's load factor -> solve -> SIFs -> growth ->
+next mesh, each step through wingcrack.step), loading (how each step's load
+factor is found: fixed, the critical load factor), pumped (a pumped step:
+the pump's loading), injection, fluid and schedule (the pump: its fluid
+balance, the fluid's density, the injected volume in time), critical_load
+(the load factor at which the first tip reaches KIc), growth (one step's
+growth of every tip), growth_law (how far each tip advances), fracture_set
+(the evolving polylines and tip states), joining (T-junctions and the outer
+boundary), patch (the circle remeshed on a fixed mesh), checkpoint
+(stopping and going on)."""

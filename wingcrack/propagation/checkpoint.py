@@ -30,7 +30,10 @@ import numpy as np
 from ..contact.slip_history import SlipHistory
 from ..face_law import FaceLaw
 from ..io.atomic import write_atomic
+from ..io.summary import StepTexts
+from ..version import __version__
 from .fracture_set import FractureSet, GrowingFracture
+from .patch import Patch
 
 NAME = "checkpoint.npz"
 #: 2: the fractures' friction and cohesion; 3: their fluid pressure and joined_to; 4: the case's keys
@@ -112,8 +115,6 @@ class Writer:
     the file is the one `save` writes."""
 
     def __init__(self, out, case):
-        from ..io.summary import StepTexts
-
         self.out, self.case = out, (fingerprint(case), case_keys(case))
         self._texts = StepTexts(lambda r: json.dumps(r.to_dict(), default=_plain))
 
@@ -129,8 +130,6 @@ _STEPS_MARK = "\0steps of the checkpoint\0"
 
 def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None, pump=None) -> None:
     """case_print: (fingerprint, case_keys) of the case."""
-    from ..version import __version__
-
     meta = {
         "version": VERSION, "case": case_print[0], "case_keys": case_print[1], "wingcrack": __version__,
         "step": k, "load_factor": lam,
@@ -161,8 +160,6 @@ def _patch(values):
     in one written without a patch)."""
     if values is None:
         return None
-    from .patch import Patch
-
     v = np.asarray(values, dtype=np.float64)
     if v.shape != (3,) or not np.all(np.isfinite(v)) or not v[2] > 0.0:
         raise ValueError(f"patch is {values!r}, not [x, y, radius > 0]")
@@ -201,8 +198,6 @@ def load(out, case) -> dict:
         if differ:
             raise ValueError(f"{path} was written for another case: {differ}; resume with the case it was "
                              "written for, or start the run again without --resume (with --force)")
-        from ..version import __version__
-
         raise ValueError(f"{path} was written by wingcrack {meta.get('wingcrack', '(unknown)')}, which records the "
                          f"case otherwise than this {__version__} (no key of the case differs); start the run "
                          "again without --resume (with --force)")

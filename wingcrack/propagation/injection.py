@@ -111,7 +111,7 @@ class Pump:
         """(n_fractures,) each fracture's volume at disc's current solution
         (m^2 per metre): the integral of the normal opening of its faces
         and wings, plus the volume it holds whatever the opening (constant)."""
-        return np.asarray(disc.openings(), float) + self.constant(fractures)
+        return np.asarray(disc.fluid.openings(), float) + self.constant(fractures)
 
     def constant(self, fractures) -> np.ndarray:
         """(n_fractures,) the part of each fracture's volume that no opening
@@ -137,7 +137,7 @@ class Pump:
         solution is left); its first step from the last closing pressure,
         or `scale`."""
         def volume_at(p):
-            disc.solve(p)
+            disc.solver.solve(p)
             return self.network_volume(disc, fractures)
 
         return fluid.balance_pressure(volume_at, fluid_held, self.compressibility, self.initial_pressure, start,
@@ -151,13 +151,13 @@ class Pump:
         the case (Pa), the balance's first step without a slope."""
         if self.held is None:
             p0 = self.initial_pressure
-            disc.solve(p0)
+            disc.solver.solve(p0)
             v = self.network_volume(disc, fractures)
             self.held = self.fluid_of(v, p0)
             b = fluid.Balance(p0, v, self.held, [(p0, v)])
         else:
             b = self.balance(disc, fractures, self.fluid_at(self.time), self.pressure, scale)
-        disc.accept()
+        disc.solver.accept()
         return b
 
     def search_limit(self, E: float) -> float:
@@ -259,7 +259,7 @@ def critical(pump: Pump, disc, fractures, keq, KIc: float, E: float, homogeneous
         return k
 
     def accept():
-        disc.accept()
+        disc.solver.accept()
         p, v = last["p"], last["v"]
         if p > out.history[-1][1]:
             out.history.append((pump.time_of(v, p), p, v))
@@ -279,7 +279,7 @@ def critical(pump: Pump, disc, fractures, keq, KIc: float, E: float, homogeneous
         return out
     p = float(crit.load_factor)
     out.unstable = p == start.pressure   # the tips at KIc at the balance (the search's root is above its start)
-    disc.solution_at(p)   # the search's last trial, mostly
+    disc.solver.solution_at(p)   # the search's last trial, mostly
     v = pump.network_volume(disc, fractures)
     # unstable: the balance's state (its fluid is the held one to 1e-10: no time passes)
     t = pump.time if out.unstable else max(pump.time_of(v, p), pump.time)
