@@ -109,6 +109,14 @@ class Discretisation:
         """The contact problem (fem.contact_problem.ContactProblem: rows, result)."""
         return self.solver.contact
 
+    def coupled_faces(self, net):
+        """The faces as the flow along the fractures on the network `net`
+        (flow.network.FlowNetwork of cm) sees them: the contact and friction
+        solved on the faces at a pressure field (fem.coupled_faces)."""
+        from .fem.coupled_faces import CoupledFaces   # the FE layer: a flowing run's, loaded by its first step
+
+        return CoupledFaces(self, net)
+
     @property
     def dofs(self) -> int:
         return int(self.problem.fm.num_dofs)

@@ -24,7 +24,6 @@ import numpy as np
 import pytest
 
 from wingcrack.case import Case
-from wingcrack.fem.coupled_faces import CoupledFaces
 from wingcrack.flow.lubrication import Fluid, Lubrication, Source
 from wingcrack.flow.network import FlowNetwork
 from wingcrack.io.faces import SLIP, STICK
@@ -58,11 +57,11 @@ def coulomb():
     case = crack_case("coulomb", sxy=1e6, friction=0.6)
     disc = discretise(case, case.fractures, Timer())
     net = FlowNetwork.of(disc.cm)
-    faces = CoupledFaces(disc, net)
+    faces = disc.coupled_faces(net)
     x = net.x[:, 0]
     p = P0 + 8e6 * np.exp(-(x / (0.4 * L)) ** 2)
     yield disc, net, faces, p
-    disc.release()
+    disc.solver.release()
 
 
 def test_the_face_level_solve_is_the_whole_solve(coulomb):
@@ -89,7 +88,7 @@ def test_a_uniform_field_loads_as_the_pumped_network(coulomb):
     unit = disc.problem.loads.face_forces.copy()
     from wingcrack.loads import face_pressure_forces
     np.testing.assert_allclose(unit, face_pressure_forces(disc.cm, [1.0]), atol=1e-14 * np.abs(unit).max())
-    disc.solve(p)
+    disc.solver.solve(p)
     np.testing.assert_allclose(faces.response.openings_of_solution(), w, atol=1e-12 * np.abs(w).max())
     np.testing.assert_allclose(disc.contact.result.forces, forces, atol=1e-12 * np.abs(forces).max())
 
@@ -111,7 +110,7 @@ def test_a_viscous_fluid_shut_in_settles_at_the_one_pressure_balance():
     case = crack_case()
     disc = discretise(case, case.fractures, Timer())
     net = FlowNetwork.of(disc.cm)
-    faces = CoupledFaces(disc, net)
+    faces = disc.coupled_faces(net)
     k = net.num_edges
     lub = Lubrication(net, Fluid(ETA, C, P0), constant=np.full((k, 3), WR))
     state = lub.initial_state(P0, faces.openings(np.full(net.num_nodes, P0)))
@@ -136,9 +135,9 @@ def test_a_viscous_fluid_shut_in_settles_at_the_one_pressure_balance():
 
     def volume_at(pressure):   # the crack's volume at one pressure: issue 28's, through the pumped load
         disc.problem.set_face_forces(np.asarray(faces.load @ np.ones(net.num_nodes)).reshape(-1, 2))
-        disc.solve(pressure)
-        return float(disc.openings()[0]) + WR * 2 * L
+        disc.solver.solve(pressure)
+        return float(disc.fluid.openings()[0]) + WR * 2 * L
 
     b = fluid.balance_pressure(volume_at, float(state.fluid.sum()), C, P0, S0, 1e5)
     assert p.mean() == pytest.approx(b.pressure, rel=1e-9)
-    disc.release()
+    disc.solver.release()

@@ -38,7 +38,6 @@ import pytest
 
 from references import fluid_driven_slip_front
 from wingcrack.case import Case
-from wingcrack.fem.coupled_faces import CoupledFaces
 from wingcrack.flow.lubrication import Fluid, Lubrication, Source
 from wingcrack.flow.network import FlowNetwork
 from wingcrack.io.faces import SLIP
@@ -93,7 +92,7 @@ def test_the_slip_front_runs_at_lambda_sqrt_4_alpha_t(T, front_elements):
     case, dp = fault_case(T, half)
     disc = discretise(case, case.fractures, Timer())
     net = FlowNetwork.of(disc.cm)
-    faces = CoupledFaces(disc, net)
+    faces = disc.coupled_faces(net)
     k = net.num_edges
     lub = Lubrication(net, Fluid(ETA, CF, P0), constant=np.full((k, 3), WH), hydraulic=np.full(k, WH))
     state = lub.initial_state(P0, faces.openings(np.full(net.num_nodes, P0)))
@@ -116,4 +115,4 @@ def test_the_slip_front_runs_at_lambda_sqrt_4_alpha_t(T, front_elements):
         if a_ref >= FROM:
             errors.append(abs(slip_front(disc, faces.result) - a_ref) / a_ref)
     assert len(errors) >= 3 and max(errors) < TOL, (max(errors), len(errors))
-    disc.release()
+    disc.solver.release()

@@ -118,4 +118,4 @@ class CoupledFaces:
         """The whole displacement at the pressure field p, with contact: the
         step's solution (its faces' forces set to the field's load)."""
         self.disc.problem.set_face_forces(np.asarray(self.load @ np.asarray(p, float)).reshape(-1, 2))
-        self.disc.solve(1.0)
+        self.disc.solver.solve(1.0)

@@ -175,10 +175,8 @@ class Geometry:
 
     @classmethod
     def of(cls, drive: FlowDrive, case, disc, fractures) -> "Geometry":
-        from ..fem.coupled_faces import CoupledFaces   # the FE layer: loaded by a run's first step
-
         net = FlowNetwork.of(disc.cm, drive.network)
-        faces = CoupledFaces(disc, net)
+        faces = disc.coupled_faces(net)
         constant, hydraulic = apertures(case, disc.cm, net, fractures)
         lub = Lubrication(net, drive.fluid, constant, hydraulic)
         weights = net.point_weights(drive.point, drive.fracture)
@@ -252,12 +250,12 @@ def march(drive: FlowDrive, geo: Geometry, keq, KIc: float) -> Outcome:
         k_new = _keq_after(geo, new, keq)
         if k_new is not None and k_new >= KIc * (1 + KEQ_TOL):
             new = _locate(drive, geo, geo.state, k, new, k_new, keq, KIc, out)
-            geo.disc.accept()
+            geo.disc.solver.accept()
             out.unstable = new.time - t <= UNSTABLE * max(t, 1e-300)
             _commit(drive, geo, new, dt_used, out)
             out.kind = "growth"
             return out
-        geo.disc.accept()
+        geo.disc.solver.accept()
         # the next step: held where the pressure changed much at a node other than the source's
         disturbance = max(float(np.max(np.abs(new.pressure - drive.initial_pressure))), 1e-300)
         change = float(np.max(np.abs(new.pressure - geo.state.pressure)[~source_nodes], initial=0.0)) / disturbance
