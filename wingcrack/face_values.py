@@ -46,7 +46,9 @@ def face_values(disc) -> dict:
     non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
     fracture at the solved load (Pa), "aperture": (p,) the fluid's aperture
     w + g + the residual aperture (m; w = [u].n, g the initial gap where a
-    normal row holds it, the residual aperture on pre-existing faces)}.
+    normal row holds it, the residual aperture on pre-existing faces),
+    "flux": (p,) the fluid's volume flux along the fracture direction d
+    (m^2/s per metre; 0 without the flow along the fractures)}.
     Collective (the face displacements are gathered)."""
     cm, problem, c = disc.cm, disc.problem, disc.contact
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
@@ -61,8 +63,13 @@ def face_values(disc) -> dict:
         t = c.tractions()
         normal_traction[c.rows.pair[normal]] = t[normal]
         tangential_traction[c.rows.pair[~normal]] = t[~normal]
-    pressure = disc.fluid.pressures(problem.load_factor_solved)[np.asarray(cm.pair_fracture, np.int64)] \
-        if len(pairs) else np.zeros(0)
+    flow = disc.fluid.flow
+    if flow is not None:   # the flow along the fractures: the pressure field and its flux
+        pressure, flux = flow[0], flow[1]
+    else:
+        pressure = disc.fluid.pressures(problem.load_factor_solved)[np.asarray(cm.pair_fracture, np.int64)] \
+            if len(pairs) else np.zeros(0)
+        flux = np.zeros(len(pairs))
     gap = np.zeros(len(pairs))
     normal = c.rows.normal
     gap[c.rows.pair[normal]] = c.rows.gap[normal]
@@ -71,7 +78,7 @@ def face_values(disc) -> dict:
     aperture = np.sum(jump * n, axis=1) + gap + (0.0 if residual is None else residual)
     return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
             "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure,
-            "aperture": aperture}
+            "aperture": aperture, "flux": flux}
 
 
 def contact_record(disc) -> ContactRecord:

@@ -27,6 +27,9 @@ class FractureFluid:
     given: np.ndarray
     network: np.ndarray | None = None
     residual: np.ndarray | None = None
+    #: with the flow along the fractures (injection.viscosity): (pressure (p,), flux (p,) at each pair, and
+    #: (n,) each fracture's largest pressure) of the step's state, set by the flow; None otherwise
+    flow: tuple | None = None
     _openings: object = field(default=None, repr=False)
 
     @classmethod
@@ -42,7 +45,10 @@ class FractureFluid:
     def pressures(self, load_factor: float) -> np.ndarray:
         """(n,) the fluid pressure of each fracture at `load_factor` (Pa; the
         given pressures times the factor that multiplies them; with
-        load = "injection" the factor itself on the injected network)."""
+        load = "injection" the factor itself on the injected network; with
+        the flow along the fractures each fracture's largest pressure)."""
+        if self.flow is not None:
+            return self.flow[2]
         if self.network is not None:
             return np.where(self.network, float(load_factor), self.given)
         return self.given * self.problem.loads.pressure_factor(load_factor)

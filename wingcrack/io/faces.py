@@ -26,6 +26,10 @@ Point data of faces_XXXX.vtu (zero at the tips, which are not pairs):
                          residual aperture w_r of a pumped case (its
                          injection.residual_aperture); the integral of it
                          along a fracture is its volume
+    flux                 q (m^2/s per metre): the fluid's volume flux along
+                         the fracture direction d, with the flow along the
+                         fractures (injection.viscosity; the mean of the
+                         node's flow segments), else 0
 
 [u] = u(+) - u(-), n the pair normal (left normal of the fracture direction
 d), t = d (docs/architecture.md). Frictionless and prescribed-slip pairs in
@@ -47,17 +51,18 @@ STATE_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
 STATE_CODES = {f"state_{name}": code for code, name in STATE_NAMES.items()}
 #: the face values (step.Discretisation.face_values) a face file holds per node
 FLOAT_FIELDS = ("opening", "slip", "normal_traction", "tangential_traction", "slip_increment", "closed",
-                "pressure", "aperture")
+                "pressure", "aperture", "flux")
 
 
 def face_state(cm, values: dict) -> dict:
     """Per pair of `cm` (a CrackMesh): position, opening w = [u].n, slip
     s = [u].t (m), normal and tangential traction (Pa), slip increment (m),
-    state (int8), closed (bool), fluid pressure (Pa) and aperture (m), from
-    the face values of step.Discretisation.face_values: {"jump": (p, 2) [u],
-    "normal_traction", "tangential_traction", "state", "slip_increment",
-    "closed", "pressure", "aperture": (p,)} (values without "pressure": no
-    fracture is pressurised; without "aperture": the opening)."""
+    state (int8), closed (bool), fluid pressure (Pa), aperture (m) and flux
+    (m^2/s), from the face values of step.Discretisation.face_values: {"jump":
+    (p, 2) [u], "normal_traction", "tangential_traction", "state",
+    "slip_increment", "closed", "pressure", "aperture", "flux": (p,)} (values
+    without "pressure": no fracture is pressurised; without "aperture": the
+    opening; without "flux": none)."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     t = np.c_[n[:, 1], -n[:, 0]]
@@ -73,7 +78,8 @@ def face_state(cm, values: dict) -> dict:
             "tangential_traction": np.asarray(values["tangential_traction"], float),
             "slip_increment": np.asarray(values["slip_increment"], float), "state": state,
             "closed": np.asarray(values["closed"], bool),
-            "pressure": np.asarray(values.get("pressure", np.zeros(len(pairs))), float), "plus": pairs[:, 0]}
+            "pressure": np.asarray(values.get("pressure", np.zeros(len(pairs))), float),
+            "flux": np.asarray(values.get("flux", np.zeros(len(pairs))), float), "plus": pairs[:, 0]}
 
 
 def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) -> Path:

@@ -207,7 +207,9 @@ def pumped(summary: dict) -> dict:
     critical point; the drop after growth is the next step's balance at the
     same time), Pa; critical (t, p) of each step's record and unstable (s,)
     bool; length (t (2s,), m (2s,)): the fractures' total length over each
-    step's interval, from its start to its time."""
+    step's interval, from its start to its time; front (t, m): with the
+    flow along the fractures, the slip front's distance from the injection
+    point at each time step (else None)."""
     steps = [st for st in summary["steps"] if "time" in st]
     points = [pt for st in steps for pt in st["injection"]["history"]]
     t = np.array([pt[0] for pt in points], float)
@@ -215,7 +217,10 @@ def pumped(summary: dict) -> dict:
     lengths = [sum(n["length"] for n in st["networks"]) for st in steps]
     starts = [st["injection"]["history"][0][0] for st in steps]
     ends = [st["time"] for st in steps]
-    return {"curve": (t, p),
+    front = None
+    if points and len(points[0]) >= 6:   # the flow along the fractures: each time step's slip front too
+        front = (t, np.array([pt[5] for pt in points], float))
+    return {"curve": (t, p), "front": front,
             "critical": (np.array(ends, float), np.array([st["injection"]["pressure"] for st in steps], float)),
             "unstable": np.array([bool(st["injection"].get("unstable")) for st in steps]),
             "length": (np.array([x for a, b in zip(starts, ends) for x in (a, b)], float),
@@ -236,8 +241,9 @@ def _plot_pumped(path: Path, summary: dict, h: dict, plt) -> dict:
     ax_p.plot(t, p / 1e6, lw=1.2, color="#0072B2", label="injection pressure")
     tc, pc = pm["critical"]
     stable = ~pm["unstable"]
+    flowing = pm["front"] is not None   # the flow along the fractures: a step is a growth or a frame
     ax_p.plot(tc[stable], pc[stable] / 1e6, ls="none", marker="o", ms=3.5, color="black",
-              label="critical pressure of the step")
+              label="the steps' states" if flowing else "critical pressure of the step")
     if pm["unstable"].any():
         ax_p.plot(tc[~stable], pc[~stable] / 1e6, ls="none", marker="x", ms=5, color="#D55E00",
                   label="unstable growth (no time passes)")
@@ -246,7 +252,10 @@ def _plot_pumped(path: Path, summary: dict, h: dict, plt) -> dict:
     ax_p.legend(fontsize=7, loc="best")
     tl, ml = pm["length"]
     ax_l.plot(tl, ml, color="#009E73", label="fracture length")
-    ax_l.set_ylabel("fracture length (m)")
+    if flowing:
+        ax_l.plot(*pm["front"], color="#CC79A7", label="slip front (from the injection point)")
+        ax_l.legend(fontsize=7, loc="best")
+    ax_l.set_ylabel("length (m)" if flowing else "fracture length (m)")
     ax_l.set_xlabel("time (s)")
     ax_p.sharex(ax_l)
     _k_eq_panel(ax_k, h, summary, marker)

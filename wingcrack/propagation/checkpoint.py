@@ -238,6 +238,8 @@ def _pump(d, case, n: int):
         return None
     if not isinstance(d, dict):
         raise ValueError(f"pump {d!r} is no pump's state")
+    if case.injection.viscosity is not None:
+        return _flow(d, case, n)
     net = d.get("network")
     if not isinstance(net, list) or case.injection.fracture not in net or \
             not all(isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n for i in net):
@@ -246,6 +248,31 @@ def _pump(d, case, n: int):
         _coefficient(d, key)
     if d.get("closing") is not None and not (isinstance(d["closing"], (int, float)) and math.isfinite(d["closing"])):
         raise ValueError(f"the pump's closing pressure {d['closing']!r} is not a number")
+    return d
+
+
+def _flow(d, case, n: int):
+    """The flow's state (flowing.Flowing.state) of a flowing case's
+    checkpoint, checked: the network as a pump's, time finite and >= 0, the
+    last time step None or > 0, the samples' arrays finite (a NaN would
+    enter the next geometry's fluid unseen)."""
+    net = d.get("network")
+    if not isinstance(net, list) or case.injection.fracture not in net or \
+            not all(isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n for i in net):
+        raise ValueError(f"the flow's network {net!r} is not one of these fractures")
+    _coefficient(d, "time")
+    dt = d.get("dt")
+    if dt is not None and not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+        raise ValueError(f"the flow's time step {dt!r} is not a number > 0")
+    samples = d.get("samples")
+    if samples is not None:
+        try:
+            arrays = [np.asarray(a, float) for v in samples["along"].values() for a in v]
+            totals = [float(samples[k]) for k in ("time", "injected", "leaked", "initial")]
+        except (KeyError, TypeError, ValueError, AttributeError) as err:
+            raise ValueError(f"the flow's samples are damaged ({err})") from None
+        if not all(np.all(np.isfinite(a)) for a in arrays) or not all(math.isfinite(t) for t in totals):
+            raise ValueError("the flow's samples hold a number that is not finite")
     return d
 
 

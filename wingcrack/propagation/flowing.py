@@ -1,334 +1,134 @@
-"""A run whose fluid flows along the fractures (injection.viscosity): time
-steps on each geometry until a growing tip reaches KIc (the growth event,
-found in time as the critical load is today), a frame time, or the end.
+"""A flowing step (injection.viscosity: the fluid flows along the
+fractures), as the loop sees it: the loading (loading.Fixed's face) whose
+steps are states in time. On the step's geometry the flow marches
+(flow_march.py) until a growing tip reaches KIc (the step grows there), a
+frame time (the step is recorded, nothing grows, and the next step goes on
+on the same geometry: `Found.frame`) or the end (the run stops there,
+recorded). The load factor is 1: the faces carry the flow's pressure field.
 
-On a geometry (a discretisation of the current fractures) the injected
-network's faces carry the flow (flow.lubrication on flow.network), coupled
-to the contact and friction on the faces alone (fem.coupled_faces): each
-time step is one backward-Euler step of the coupled problem, one increment
-of friction from the last accepted state. After each step the whole
-displacement gives the tips' K_eq; where a growing tip passes KIc the time
-of the event is found between the step's ends (Illinois on K_eq(t) - KIc,
-each trial the step from its start to the trial time) to K_eq within
-KEQ_TOL of KIc. The fluid then goes on to the next geometry by arc length
-(flow.transfer).
-
-Time steps are chosen by the run: each the last times a factor of at most
-GROWTH, held where the pressure changed by more than CHANGE of its
-disturbance at a node other than the source's (dt / t of a diffusion then
-settles near CHANGE), halved where the coupled iteration fails; they land
-on the frame times, the schedule's changes and the end.
+A step's record holds its time, the injection {injected, stored, leaked,
+pressure at the point, history of its time steps [t, p, injected, stored,
+leaked, slip front], steps, solves} and the network's fractures with the
+pressure at the point and their volume. A committed step that grew leaves
+the fluid along the fractures (flow.transfer.Samples) for the next
+geometry, and the fractures its wings joined enter the network, dry (or
+with their given pressure's fluid).
 """
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact.constraints import pre_existing_pairs
-from ..contact.friction import SLIP
-from ..flow.lubrication import Fluid, FlowState, Lubrication, Source
-from ..flow.network import FlowNetwork
-from ..flow.transfer import Samples, carry, sample
-from .schedule import Schedule
-
-#: the largest ratio of one time step to the last
-GROWTH = 1.5
-#: the pressure change of a step, relative to the disturbance p - p0, that the time steps aim at
-CHANGE = 0.05
-#: the first time step, as a fraction of the interval between frames
-FIRST = 1e-4
-#: a growth event: the deciding tip's K_eq within KIc (1 + KEQ_TOL)
-KEQ_TOL = 1e-4
-#: halvings of a time step whose coupled iteration fails before the run fails
-MAX_RETRIES = 20
-#: a growth event within this fraction of the time from the step's start took no time (unstable)
-UNSTABLE = 1e-9
+import wingcrack_kernels as K
+from .. import progress, sifs
+from ..flow.transfer import Samples
+from .flow_march import FlowDrive, Geometry, march
+from .loading import Fixed, Found, largest_keq
 
 
-@dataclass
-class FlowDrive:
-    """What a flowing run carries from step to step (and its checkpoint):
-    the fluid and the source (a rate schedule, or a pressure held at the
-    point), the network's fractures, the frame times, the end, the fluid
-    along the fractures (flow.transfer.Samples; None before the first
-    step), the last time step and its time."""
-    fluid: Fluid
-    fracture: int
-    point: np.ndarray
-    schedule: Schedule | None
-    pressure: float | None
-    end: float
-    frames: np.ndarray
-    network: list
-    connect: bool
-    initial_pressure: float
-    samples: Samples | None = None
-    dt: float | None = None
-    time: float = 0.0
+class Flowing(Fixed):
+    """The flow's loading: drive (flow_march.FlowDrive, what the run carries
+    from step to step and its checkpoint keeps); geo: the flow on the
+    current geometry (flow_march.Geometry), kept while the geometry is."""
+    unreached = None
+    #: the run goes on in time where no tip may grow (frames up to the end)
+    timed = True
 
-    @classmethod
-    def of(cls, case) -> "FlowDrive":
-        inj = case.injection
-        fr = case.fractures[inj.fracture]
-        point = np.asarray(inj.point if inj.point is not None else fr.midpoint, float)
-        schedule = None if inj.pressure is not None else Schedule.of(inj)
-        end = float(inj.end_time)
-        frames = end * np.arange(1, int(inj.frames) + 1) / int(inj.frames)
-        fluid = Fluid(float(inj.viscosity), float(inj.compressibility), float(inj.initial_pressure),
-                      float(inj.leak_off))
-        return cls(fluid, int(inj.fracture), point, schedule, None if inj.pressure is None else float(inj.pressure),
-                   end, frames, [int(i) for i in np.flatnonzero(case.network_at_start())],
-                   bool(case.propagation.connect_pressure), float(inj.initial_pressure))
+    def __init__(self, case):
+        super().__init__(case)
+        self.drive = FlowDrive.of(case)
+        self.geo = None
+        self.out = None
 
-    def stops(self) -> np.ndarray:
-        """The times a step must land on: the frames, the schedule's changes, the end."""
-        out = list(self.frames) + [self.end]
-        if self.schedule is not None:
-            out += [float(t) for t in self.schedule.times]
-        return np.unique([t for t in out if t > 0])
+    @property
+    def network(self):
+        return self.drive.network
 
-    def source(self, weights, t0: float, t1: float) -> Source:
-        if self.pressure is not None:
-            return Source(weights, pressure=self.pressure)
-        return Source(weights, volume=self.schedule.injected(t1) - self.schedule.injected(t0))
+    def mask(self, n: int):
+        out = np.zeros(n, bool)
+        out[self.drive.network] = True
+        return out
 
+    def find(self, disc, fset, grow) -> Found:
+        case = self.case
+        if self.geo is None or self.geo.disc is not disc:
+            progress.doing("the flow on the step's faces")
+            self.geo = Geometry.of(self.drive, case, disc, fset.fractures)
+        polylines = fset.polylines()
 
-def apertures(case, cm, net: FlowNetwork, fractures):
-    """(constant (k, 3), hydraulic (k,)) of the network's edges: on the
-    pre-existing part of a fracture its contact faces' gap and the residual
-    aperture, or its fixed hydraulic aperture (then its edges' conductance
-    too); none on the wings (fresh cracks whose faces mate)."""
-    pre_pair = pre_existing_pairs(cm, fractures)
-    mid_pair = net.pair[:, 2]   # a mid node is never a tip
-    pre = pre_pair[mid_pair]
-    k = net.num_edges
-    constant = np.zeros(k)
-    hydraulic = np.full(k, np.nan)
-    residual = float(case.injection.residual_aperture)
-    for f in np.unique(net.fracture):
-        rows = np.flatnonzero((net.fracture == f) & pre)
-        law = fractures[int(f)].law
-        gap = law.gap if law.faces != "open" else 0.0
-        fixed = case.fractures[int(f)].hydraulic_aperture if int(f) < len(case.fractures) else None
-        constant[rows] = gap + (fixed if fixed is not None else residual)
-        if fixed is not None:
-            hydraulic[rows] = fixed
-    return np.repeat(constant[:, None], 3, axis=1), hydraulic
+        def keq():
+            KI, KII = sifs.driving(case, disc, polylines)
+            th = K.mts_angle(KI[grow], KII[grow])
+            k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
+            sifs.require_finite("K_eq", k)
+            return k
 
+        progress.doing(f"the flow in time from {self.drive.time:.6g} s")
+        self.out = out = march(self.drive, self.geo, keq if grow else None, case.material.KIc)
+        self.geo.publish()
+        stop = None
+        if out.kind == "end":
+            stop = lambda tips: self._ended(tips, grow)   # noqa: E731 - the loop calls it with the step's tips
+        return Found(1.0, out.solves, stop=stop, frame=out.kind == "frame")
 
-def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
-    """The carried fluid on a grown geometry, spread at once: the carried
-    pressure's shape shifted by the one constant at which the network,
-    solved there, holds the fluid it held (a safeguarded Newton on the
-    shift, V rising with it), each node's fluid the mechanics' there. The
-    growth is the instant of a step: the fluid no flow has yet carried into
-    the new crack is spread by the balance, exactly as the pump without
-    viscosity spreads it, and the flow then goes on from a state whose
-    fluid and faces agree."""
-    fl = lub.fluid
-    total = float(np.sum(carried.fluid))
+    def _ended(self, tips, grow) -> str:
+        p = self.geo.injection_pressure()
+        below = f"; the largest K_eq is {largest_keq(tips, grow, self.case.material.KIc)} KIc" if grow else ""
+        return f"stopped: end_time reached: at {self.drive.end:g} s the pressure at the injection point is " \
+            f"{p:.6g} Pa{below}"
 
-    def excess(shift):
-        p = carried.pressure + shift
-        w = faces.openings(p)
-        rho = fl.density(p)
-        V = lub.volumes(w)
-        slope = float(np.sum(fl.compressibility * rho * V) + np.sum(rho * (lub.Phi @ faces.derivative()).sum(axis=1)))
-        return float(np.sum(rho * V)) - total, slope, rho * V
+    def fluid(self, disc, fset) -> FlowRecord:
+        return FlowRecord.of(self, fset)
 
-    scale = max(float(np.max(np.abs(carried.pressure))), 1.0)
-    lo = hi = None
-    x, (f, slope, m) = 0.0, excess(0.0)
-    for _ in range(200):
-        if abs(f) <= 1e-12 * max(total, 1e-300):
-            break
-        if f > 0:
-            hi = x
-        else:
-            lo = x
-        step = -f / slope if slope > 0 else (-scale if f > 0 else scale)
-        nxt = x + step
-        if lo is not None and hi is not None and not lo < nxt < hi:
-            nxt = 0.5 * (lo + hi)
-        elif lo is None and nxt >= x or hi is None and nxt <= x:
-            nxt = x + step
-        x, (f, slope, m) = nxt, excess(nxt)
-    else:
-        raise ArithmeticError("the fluid carried to the grown fractures found no pressure that holds it")
-    out = FlowState(carried.time, carried.pressure + x, m, carried.injected, carried.leaked, carried.exposed,
-                    carried.initial)
-    return out
+    def commit(self, fluid, done, fset) -> None:
+        """done: the fractures as the step solved them. After growth the fluid
+        goes on to the next geometry by arc length,
+        and the fractures joined enter the network; a frame keeps both."""
+        geo = self.geo
+        self.drive.samples = geo.samples(done)
+        if self.out is None or self.out.kind != "growth":
+            return
+        self.geo = None
+        if self.drive.connect:
+            group = next(g for g in fset.connected_groups() if self.drive.fracture in g)
+            self.drive.network = sorted(set(self.drive.network) | set(group))
+
+    def state(self) -> dict:
+        d = self.drive
+        return {"network": list(d.network), "time": d.time, "dt": d.dt,
+                "samples": None if d.samples is None else d.samples.to_dict()}
+
+    def restore(self, state) -> None:
+        d = self.drive
+        d.network, d.time, d.dt = [int(i) for i in state["network"]], float(state["time"]), state["dt"]
+        d.samples = None if state["samples"] is None else Samples.from_dict(state["samples"])
+        self.geo = None
 
 
 @dataclass
-class Geometry:
-    """The flow on one discretisation: the network, the coupled faces, the
-    discrete flow, the source's weights and the fluid's state."""
-    disc: object
-    net: FlowNetwork
-    faces: object
-    lub: Lubrication
-    weights: np.ndarray
-    state: FlowState
-
-    @classmethod
-    def of(cls, drive: FlowDrive, case, disc, fractures) -> "Geometry":
-        net = FlowNetwork.of(disc.cm, drive.network)
-        faces = disc.coupled_faces(net)
-        constant, hydraulic = apertures(case, disc.cm, net, fractures)
-        lub = Lubrication(net, drive.fluid, constant, hydraulic)
-        weights = net.point_weights(drive.point, drive.fracture)
-        if drive.samples is None:   # the start: every node at p0, the faces solved there
-            w = faces.openings(np.full(net.num_nodes, drive.initial_pressure))
-            state = lub.initial_state(drive.initial_pressure, w, drive.time)
-        else:
-            state = balanced(lub, faces, carry(drive.samples, net, fractures, lub.lengths))
-        return cls(disc, net, faces, lub, weights, state)
-
-    def samples(self, fractures) -> Samples:
-        return sample(self.net, self.state, fractures, self.lub.lengths)
-
-    def injection_pressure(self, state=None) -> float:
-        s = self.state if state is None else state
-        return float(self.weights @ s.pressure)
-
-    def slip_front(self) -> float:
-        """The farthest pair of the network slipping in the last solve from
-        the injection point (m; 0 where none slips)."""
-        c = self.disc.contact
-        res = c.result
-        if res is None or getattr(res, "state", None) is None:
-            return 0.0
-        rows = c.rows
-        slipping = rows.pair[rows.coulomb & (res.state == SLIP)]
-        if not len(slipping):
-            return 0.0
-        x = np.asarray(self.disc.cm.x)[np.asarray(self.disc.cm.pairs)[slipping, 0]]
-        return float(np.max(np.linalg.norm(x - self.weights @ self.net.x, axis=1)))
-
-
-@dataclass
-class Outcome:
-    """How a march on one geometry ended: "growth" (a tip reached KIc at
-    `time`; `unstable` where no time passed), "frame", "end"; the state
-    there (solved: the geometry's faces and displacement are at it), the
-    time steps' history [(t, p at the point, injected, stored, leaked,
-    slip front)] and the steps and solves it took."""
-    kind: str
+class FlowRecord:
+    """A flowing step's fluid for its record (its time, injection and
+    network), taken at its solution before growth."""
     time: float
-    history: list = field(default_factory=list)
-    steps: int = 0
-    solves: int = 0
-    unstable: bool = False
+    injection: dict
+    networks: list
 
+    @classmethod
+    def of(cls, loading: Flowing, fset) -> FlowRecord:
+        geo, out = loading.geo, loading.out
+        s = geo.state
+        lengths = [float(np.linalg.norm(np.diff(f.points, axis=0), axis=1).sum()) for f in fset.fractures]
+        p = geo.injection_pressure()
+        volume = float(np.sum(geo.lub.volumes(geo.faces.w)))
+        injection = {"injected": float(s.injected), "stored": float(s.stored), "leaked": float(s.leaked),
+                     "pressure": p, "volume": volume, "held": float(s.initial), "unstable": bool(out.unstable),
+                     "partly_filled": False, "steps": int(out.steps), "solves": int(out.solves),
+                     "history": [[float(x) for x in h] for h in out.history]}
+        net = sorted(int(i) for i in loading.drive.network)
+        networks = [{"fractures": net, "pressure": p, "volume": volume,
+                     "length": float(sum(lengths[i] for i in net))}]
+        return cls(float(s.time), injection, networks)
 
-def march(drive: FlowDrive, geo: Geometry, keq, KIc: float) -> Outcome:
-    """Time steps on geo from its state's time (module doc). keq(): the
-    largest K_eq of the growing tips at the discretisation's current
-    solution (None: nothing may grow). Leaves geo.state, drive.time and
-    drive.dt at the outcome's time, the discretisation solved and accepted
-    there."""
-    t = geo.state.time
-    stops = drive.stops()
-    stops = stops[stops > t * (1 + 1e-14)]
-    gap = float(np.min(np.diff(np.r_[0.0, drive.frames])))
-    dt = drive.dt if drive.dt else FIRST * gap
-    out = Outcome("end", t)
-    # K_eq where the geometry begins is no state of the run: the fluid carried to a grown mesh has
-    # not yet spread into the new crack (no step of no time does that); the first step's start
-    # counts as below KIc, and where the tips are at KIc as soon as any time passes, the event is
-    # found there (unstable growth: the step took no time, to the search's tolerance)
-    k = -np.inf
-    source_nodes = geo.weights > 0
-    while True:
-        target = min(t + dt, float(stops[0]))
-        if stops[0] - target < 0.25 * dt:   # no sliver of a step before a stop
-            target = float(stops[0])
-        new, dt_used = _step(drive, geo, geo.state, target, out)
-        k_new = _keq_after(geo, new, keq)
-        if k_new is not None and k_new >= KIc * (1 + KEQ_TOL):
-            new = _locate(drive, geo, geo.state, k, new, k_new, keq, KIc, out)
-            geo.disc.solver.accept()
-            out.unstable = new.time - t <= UNSTABLE * max(t, 1e-300)
-            _commit(drive, geo, new, dt_used, out)
-            out.kind = "growth"
-            return out
-        geo.disc.solver.accept()
-        # the next step: held where the pressure changed much at a node other than the source's
-        disturbance = max(float(np.max(np.abs(new.pressure - drive.initial_pressure))), 1e-300)
-        change = float(np.max(np.abs(new.pressure - geo.state.pressure)[~source_nodes], initial=0.0)) / disturbance
-        dt = dt_used * min(GROWTH, max(0.5, CHANGE / max(change, 1e-300)))
-        _commit(drive, geo, new, dt, out)
-        t, k = new.time, k_new
-        if t >= stops[0] * (1 - 1e-14):
-            stops = stops[1:]
-            if t >= drive.end * (1 - 1e-14):
-                out.kind = "end"
-                return out
-            if np.any(np.abs(drive.frames - t) <= 1e-12 * t):
-                out.kind = "frame"
-                return out
-
-
-def _step(drive, geo, state, target, out):
-    """The coupled step from `state` to `target`, halved where it fails:
-    (the new state, the time step taken)."""
-    t = state.time
-    for _ in range(MAX_RETRIES):
-        try:
-            new, info = geo.lub.step(state, target, drive.source(geo.weights, t, target), geo.faces)
-            out.solves += info.solves
-            out.steps += 1
-            return new, target - t
-        except ArithmeticError:
-            target = t + 0.5 * (target - t)
-    raise ArithmeticError(f"the flow found no state after {t:.6g} s even with a time step of {target - t:.3g} s")
-
-
-def _keq_after(geo, state, keq):
-    """The whole displacement at the state's pressure, and K_eq there (None: no tip grows)."""
-    geo.faces.complete(state.pressure)
-    return None if keq is None else keq()
-
-
-def _locate(drive, geo, start, k_lo, hi_state, k_hi, keq, KIc, out) -> FlowState:
-    """The state at which the growing tips first reach KIc between `start`
-    (K_eq k_lo below KIc) and `hi_state` (k_hi above): Illinois in time on
-    K_eq(t) / KIc - 1, each trial the step from `start`; the
-    discretisation is left solved at the returned state."""
-    t_lo, f_lo = start.time, max(k_lo / KIc - 1, -1.0)
-    t_hi, f_hi = hi_state.time, k_hi / KIc - 1
-    best, side = hi_state, 0
-    for _ in range(100):
-        t = t_hi - f_hi * (t_hi - t_lo) / (f_hi - f_lo)
-        if not t_lo < t < t_hi or not math.isfinite(k_lo):   # no K_eq at the start: bisection first
-            t = 0.5 * (t_lo + t_hi)
-        new, _ = _step(drive, geo, start, t, out)
-        t = new.time
-        f = _keq_after(geo, new, keq) / KIc - 1
-        if 0 <= f <= KEQ_TOL:
-            return new
-        if f > 0:
-            t_hi, f_hi, best = t, f, new
-            if side == 1:
-                f_lo *= 0.5
-            side = 1
-        else:
-            t_lo, f_lo, k_lo = t, f, 0.0
-            if side == -1:
-                f_hi *= 0.5
-            side = -1
-        if t_hi - t_lo <= UNSTABLE * max(t_hi, 1e-300):
-            break
-    geo.faces.complete(best.pressure)   # K_eq jumps across the bracket: the earliest state found above KIc
-    return best
-
-
-def _commit(drive, geo, new, dt, out):
-    inj = geo.injection_pressure(new)
-    out.history.append((new.time, inj, new.injected, new.stored, new.leaked, geo.slip_front()))
-    geo.state = new
-    drive.time, drive.dt = new.time, dt
-    out.time = new.time
+    def record(self) -> dict:
+        return {"time": self.time, "injection": self.injection, "networks": self.networks}

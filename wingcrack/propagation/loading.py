@@ -8,7 +8,9 @@ Fig. 8 between the solve and the growth:
   fracture pressures only: the critical injection pressure); where no
   tip reaches KIc below propagation.max_load_factor the run stops there;
 - "injection" (pumped.Pumped): the network's pressure, from the pump's
-  fluid balance and the critical pressure.
+  fluid balance and the critical pressure; with injection.viscosity
+  (flowing.Flowing) the flow along the fractures in time, to the time a
+  tip reaches KIc or a frame.
 
 Each is an object with Fixed's face, which the loop calls without knowing
 which it is: `lam` (the load factor the run holds), find (the step's load
@@ -43,10 +45,14 @@ class Found:
     """The load factor a step solves at and the solves finding it took.
     stop: where the loading stops the run before a tip reaches KIc (the
     step is then solved at load_factor, and recorded), the run's status
-    from that step's tips (TipSIF); None where the step goes on."""
+    from that step's tips (TipSIF); None where the step goes on. frame: the
+    step is a state in time at which no tip reached KIc (a flowing run's):
+    recorded, nothing grows, and the next step goes on from it on the same
+    geometry."""
     load_factor: float
     solves: int
     stop: Callable[[list], str] | None = None
+    frame: bool = False
 
 
 class Fixed:
@@ -55,6 +61,8 @@ class Fixed:
     unreached = "stopped: no tip reaches KIc under the fixed load"
     #: the fractures whose pressure the loading sets (kept out of the connected pressures)
     network = ()
+    #: does the run go on in time where no tip may grow (a flowing run's frames)?
+    timed = False
 
     def __init__(self, case):
         self.case = case

@@ -37,6 +37,7 @@ from ..io.summary import SummaryWriter
 from ..parallel import on_root, on_world_root
 from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from . import checkpoint, growth
+from .flowing import Flowing
 from .fracture_set import FractureSet
 from .loading import SEARCHED, Fixed, Searched
 from .patch import next_patch
@@ -59,7 +60,7 @@ def loading_of(case):
     """The loading of propagation.load (loading.py)."""
     load = case.propagation.load
     if load == "injection":
-        return Pumped(case)
+        return Flowing(case) if case.injection.viscosity is not None else Pumped(case)
     return Searched(case) if load in SEARCHED else Fixed(case)
 
 
@@ -168,6 +169,7 @@ class _Run:
         self.frozen = contextlib.ExitStack()   # the FE modules frozen for the run (startup.solving_modules)
         self.records = []
         self.disc = None
+        self.kept = False   # the last step was a frame: the next goes on on its discretisation
         self.shown = None   # the discretisation of the last recorded step, while it is not released
         self.k = 0            # the step under way (the first one to do, before the loop)
         self.warnings = []    # about the whole run (from `finishing`)
@@ -198,7 +200,7 @@ class _Run:
     def begin(self):
         """The first step's mesh is begun before DOLFINx is imported: its gmsh
         overlaps the imports (startup.py)."""
-        if self.k < self.prop.steps and self.fset.active_tips():
+        if self.k < self.prop.steps and (self.fset.active_tips() or self.loading.timed):
             self.request_mesh()
             self.frozen.enter_context(startup.solving_modules())   # a run of no step imports no DOLFINx
         self.done = self.fset.copy()   # the fractures after the last finished step
@@ -216,12 +218,13 @@ class _Run:
         timer = step.Timer()
         progress_now.step_started(k)
         interrupt.check()
-        if not self.fset.active_tips():
+        timed = self.loading.timed   # a flowing run goes on in time, growing or not
+        if not self.fset.active_tips() and not timed:
             return no_tip_left(self.records)
         disc = self.discretise(timer)
         interrupt.check()
         grow = growth.may_grow(disc.cm, self.fset)
-        if not grow:
+        if not grow and not timed:
             return no_tip_left(self.records)
         found = self.loading.find(disc, self.fset, grow)
         if found.stop is not None:   # the loading stops the run below KIc: the step solved there is a result too
@@ -235,6 +238,11 @@ class _Run:
         # the converged slip along the fractures as meshed (before they grow): the next mesh's reference
         converged = _slip_history(disc, self.fset)
         fluid = self.loading.fluid(disc, self.fset)   # a pump's, before growth: on the step's geometry
+        if found.frame:   # a state in time on this geometry: recorded, and the next step goes on from it
+            record = self.finished(k, found.load_factor, disc, tips, timer, solves=found.solves, fluid=fluid)
+            self.commit(k, record, disc, converged, fluid)
+            self.kept = True
+            return None
         candidates = growth.candidates(tips, disc.cm, grow)
         if self.loading.unreached and not growth.reached(candidates, self.rule).any():
             # the solved step is a result too: recorded with its files, no growth
@@ -258,7 +266,11 @@ class _Run:
         return None
 
     def discretise(self, timer):
-        """This step's discretisation, the last one's factors released first."""
+        """This step's discretisation, the last one's factors released first
+        (the last one itself where it was a frame: the same geometry)."""
+        if self.kept:
+            self.kept = False
+            return self.disc
         _release(self.disc)   # the previous step's factors and forms
         self.disc = self.shown = None
         mesh, self.next_mesh = self.next_mesh, None
