@@ -321,10 +321,20 @@ def _injection_text(case) -> list:
     at = inj.point if inj.point is not None else case.fractures[inj.fracture].midpoint
     joins = "the fractures its wings join enter the network" if case.propagation.connect_pressure else \
         "its wings' joins do not connect it (connect_pressure = false)"
-    return [f"injection: into fracture {inj.fracture} at {_pt(at)}; {joins}",
-            f"  schedule: {Schedule.of(inj).describe()}",
-            f"  fluid: compressibility {_g(inj.compressibility)} 1/Pa, initial pressure {_g(inj.initial_pressure)} "
-            f"Pa, residual aperture {_g(inj.residual_aperture)} m"]
+    source = f"  pressure held at the point: {_g(inj.pressure)} Pa" if inj.pressure is not None else \
+        f"  schedule: {Schedule.of(inj).describe()}"
+    lines = [f"injection: into fracture {inj.fracture} at {_pt(at)}; {joins}", source,
+             f"  fluid: compressibility {_g(inj.compressibility)} 1/Pa, initial pressure {_g(inj.initial_pressure)} "
+             f"Pa, residual aperture {_g(inj.residual_aperture)} m"]
+    if inj.viscosity is None:
+        return lines + ["  one pressure per connected network (no viscosity: no flow along the fractures)"]
+    conduits = [f"fracture {i} {_g(f.hydraulic_aperture)} m" for i, f in enumerate(case.fractures)
+                if f.hydraulic_aperture is not None]
+    lines.append(f"  flow along the fractures: viscosity {_g(inj.viscosity)} Pa s, leak-off {_g(inj.leak_off)} "
+                 f"m/s^0.5, {inj.frames} frames to {_g(inj.end_time)} s")
+    if conduits:
+        lines.append(f"  fixed hydraulic apertures: {', '.join(conduits)}")
+    return lines
 
 
 def _domain_text(case) -> str:

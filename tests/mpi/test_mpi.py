@@ -318,3 +318,29 @@ def test_the_saddle_routes_problem_of_some_rows_on_two_ranks_is_the_one_rank_one
     S1, S2 = np.array(out[1]["S"]), np.array(out[2]["S"])
     np.testing.assert_allclose(S2, S1, rtol=0, atol=1e-9 * np.abs(S1).max())
     np.testing.assert_allclose(out[2]["j"], out[1]["j"], rtol=0, atol=1e-9 * np.abs(out[1]["j"]).max())
+
+
+@pytest.mark.parametrize("which", ["fault", "kgd"])
+def test_a_flowing_run_on_two_ranks_is_the_one_rank_one(tmp_path, which):
+    """The flow along the fractures on two ranks (the faces' compliance by
+    multi-right-hand-side solves: MUMPS gives no Schur complement there):
+    a fault's frames and a KGD's growth events at the one-rank times and
+    pressures (1e-8: the solves' round-off through the coupled steps), the
+    same meshes and geometry."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from builders import flowing_fault, flowing_kgd
+    from networks import to_toml
+
+    case = tmp_path / "case.toml"
+    case.write_text(to_toml(flowing_fault(frames=2, end_time=0.2) if which == "fault" else flowing_kgd(steps=3)))
+    wingcrack(1, "run", case, "-o", tmp_path / "one", "--quiet", "--no-plots")
+    wingcrack(2, "run", case, "-o", tmp_path / "two", "--quiet", "--no-plots")
+    a, b = summary(tmp_path / "one"), summary(tmp_path / "two")
+    assert a["status"] == b["status"] and len(a["steps"]) == len(b["steps"]) > 1
+    for sa, sb in zip(a["steps"], b["steps"]):
+        assert sa["dofs"] == sb["dofs"]
+        assert abs(sa["time"] - sb["time"]) <= 1e-8 * sa["time"]
+        for key in ("pressure", "injected", "stored"):
+            assert abs(sa["injection"][key] - sb["injection"][key]) <= 1e-8 * abs(sa["injection"][key])
+    for fa, fb in zip(a["fractures"], b["fractures"]):
+        assert np.abs(np.array(fa["points"]) - np.array(fb["points"])).max() <= 1e-12 * 1000.0
