@@ -30,22 +30,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import progress, sifs
+from .contact.constraints import constraint_rows
 from .errors import ComputationError, WriteError
 from .face_values import contact_record
 from .floating import Floating
 from .fracture_fluid import FractureFluid
 from .free_pieces import describe, free_pieces
-from .contact.constraints import constraint_rows
 from .loads import case_loads
-from .mesh_request import MESH_TIMEOUT, MeshRequest, start_mesh, start_meshing
+from .mesh_request import MESH_TIMEOUT, MeshRequest, start_mesh
 from .results import MESH_STATS, StepRecord, Summary, TipRecord
 from .sif_agreement import result_warnings, sif_warnings
 from .step_files import files_of, write_step_files
 from .version import __version__
 
+#: the stages and their records, with what the callers take from here (the mesh request, the files)
 __all__ = ["FAILURES", "MESH_TIMEOUT", "Carried", "Discretisation", "MeshRequest", "Solution", "Timer",
-           "discretise", "failure", "files_of", "finish", "solve_initial", "start_mesh", "start_meshing",
-           "static_states", "summary"]
+           "discretise", "failure", "files_of", "finish", "floating_pieces", "propagation_asked", "solve_initial",
+           "start_mesh", "static_states", "summary"]
 
 #: a tip "reached" KIc in a static solve (sif): K_eq >= KIc (1 - this)
 STATIC_RTOL = 1e-9
