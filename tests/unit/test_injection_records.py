@@ -118,7 +118,13 @@ def test_the_checkpoint_keeps_the_pumps_state_and_refuses_a_damaged_one(tmp_path
     state = {"network": [1], "held": 1e-4, "time": 10.0, "pressure": 5e6, "closing": 4e6}
     checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=state)
     assert checkpoint.load(tmp_path, case)["pump"] == state
-    for bad in ({**state, "network": [0]}, {**state, "time": float("nan")}, {**state, "closing": "x"}, None):
+    # "open" faces under compression overlap at p0: the fluid held is below 0, and a run that went on with it
+    # resumes (it was refused as damaged)
+    overlap = {**state, "held": -6e-6}
+    checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=overlap)
+    assert checkpoint.load(tmp_path, case)["pump"] == overlap
+    for bad in ({**state, "network": [0]}, {**state, "time": float("nan")}, {**state, "closing": "x"},
+                {**state, "held": float("inf")}, {**state, "held": None}, None):
         checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=bad)
         with pytest.raises(ValueError, match="damaged"):
             checkpoint.load(tmp_path, case)
