@@ -39,6 +39,7 @@ from .free_pieces import describe, free_pieces
 from .loads import case_loads
 from .mesh_request import MESH_TIMEOUT, MeshRequest, start_mesh
 from .results import MESH_STATS, StepRecord, Summary, TipRecord
+from .schedule import Schedule
 from .sif_agreement import result_warnings, sif_warnings
 from .step_files import files_of, write_step_files
 from .version import __version__
@@ -258,5 +259,10 @@ def summary(case, status: str, steps: list, fractures: list, warnings=(), run: b
 def propagation_asked(case) -> dict:
     """summary.json's "propagation" of a run of `case`: the steps asked and
     the longest advance of a step (m), so no tip moves farther than their
-    product (the growth animation's view is chosen from it at the first step)."""
-    return {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}
+    product (the growth animation's view is chosen from it at the first step);
+    with a pump its schedule (times and rates, s and m^3/s per m; end_time),
+    which history.png's breakdown curve follows between the states solved."""
+    asked = {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}
+    if case.propagation.load == "injection":
+        asked["schedule"] = Schedule.of(case.injection).to_dict()
+    return asked
