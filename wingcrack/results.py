@@ -121,7 +121,7 @@ class StepRecord:
     #: load, or a path-dependent response held above it); below load_factor once the held load has peaked
     critical_load_factor: float | None = None
     #: with a pump (load = "injection"): the step's time (s), its injection {injected, stored, leaked,
-    #: pressure, volume, held, unstable, partly_filled, history} and its networks [{fractures, pressure,
+    #: pressure, volume, held, unstable, partly_filled, stopped, history} and its networks [{fractures, pressure,
     #: volume, length}] (propagation.injection.step_record); None otherwise
     time: float | None = None
     injection: dict | None = None

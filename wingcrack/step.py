@@ -30,22 +30,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import progress, sifs
+from .contact.constraints import constraint_rows
 from .errors import ComputationError, WriteError
 from .face_values import contact_record
 from .floating import Floating
 from .fracture_fluid import FractureFluid
 from .free_pieces import describe, free_pieces
-from .contact.constraints import constraint_rows
 from .loads import case_loads
-from .mesh_request import MESH_TIMEOUT, MeshRequest, start_mesh, start_meshing
+from .mesh_request import MESH_TIMEOUT, MeshRequest, start_mesh
 from .results import MESH_STATS, StepRecord, Summary, TipRecord
+from .schedule import Schedule
 from .sif_agreement import result_warnings, sif_warnings
 from .step_files import files_of, write_step_files
 from .version import __version__
 
+#: the stages and their records, with what the callers take from here (the mesh request, the files)
 __all__ = ["FAILURES", "MESH_TIMEOUT", "Carried", "Discretisation", "MeshRequest", "Solution", "Timer",
-           "discretise", "failure", "files_of", "finish", "solve_initial", "start_mesh", "start_meshing",
-           "static_states", "summary"]
+           "discretise", "failure", "files_of", "finish", "floating_pieces", "propagation_asked", "solve_initial",
+           "start_mesh", "static_states", "summary"]
 
 #: a tip "reached" KIc in a static solve (sif): K_eq >= KIc (1 - this)
 STATIC_RTOL = 1e-9
@@ -265,5 +267,10 @@ def summary(case, status: str, steps: list, fractures: list, warnings=(), run: b
 def propagation_asked(case) -> dict:
     """summary.json's "propagation" of a run of `case`: the steps asked and
     the longest advance of a step (m), so no tip moves farther than their
-    product (the growth animation's view is chosen from it at the first step)."""
-    return {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}
+    product (the growth animation's view is chosen from it at the first step);
+    with a pump its schedule (times and rates, s and m^3/s per m; end_time),
+    which history.png's breakdown curve follows between the states solved."""
+    asked = {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}
+    if case.propagation.load == "injection":
+        asked["schedule"] = Schedule.of(case.injection).to_dict()
+    return asked

@@ -83,8 +83,8 @@ def test_a_step_from_before_fluid_pressure_loads_and_writes_back_unchanged():
 
 def test_finish_records_what_the_discretisation_says_the_pressures_are():
     """step.finish takes the pressures at the step's own load factor from
-    Discretisation.pressure_at (actual pressures: lam * p in the pressure
-    and scale modes)."""
+    the discretisation's FractureFluid.pressures (actual pressures: lam * p
+    in the pressure and scale modes)."""
     from wingcrack.step import Timer, finish
 
     cm = SimpleNamespace(pairs=np.zeros((0, 2)), stats={"min_quality": 0.5, "min_jacobian": 1.0, "nodes": 9,
@@ -97,17 +97,18 @@ def test_finish_records_what_the_discretisation_says_the_pressures_are():
 
         def __init__(self):
             self.cm = cm
+            self.contact = SimpleNamespace(rows=(), result=None)   # no rows: the record's ContactRecord(0, 0)
 
-        def contact_record(self):
-            return ContactRecord(0, 0)
-
-    class Wet(Disc):
-        def pressure_at(self, lam):
+    class Fluid:
+        def pressures(self, lam):
             asked.append(lam)
             return lam * np.array([0.0, 4e6])
 
+    class Wet(Disc):
+        fluid = Fluid()
+
     rec = finish(None, 2, 1.75, Wet(), [], Timer())
-    assert asked == [1.75] and rec.pressures == [0.0, 7e6]
+    assert asked == [1.75] and rec.pressures == [0.0, 7e6] and rec.contact == ContactRecord(0, 0)
     assert all(type(p) is float for p in rec.pressures)   # json writes numpy floats only by accident
 
 
