@@ -271,6 +271,6 @@ def propagation_asked(case) -> dict:
     with a pump its schedule (times and rates, s and m^3/s per m; end_time),
     which history.png's breakdown curve follows between the states solved."""
     asked = {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}
-    if case.propagation.load == "injection":
+    if case.propagation.load == "injection" and case.injection.pressure is None:   # (not a pressure held)
         asked["schedule"] = Schedule.of(case.injection).to_dict()
     return asked

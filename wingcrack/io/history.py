@@ -216,15 +216,15 @@ def pumped(summary: dict) -> dict:
     points = [pt for st in steps for pt in st["injection"]["history"]]
     t = np.array([pt[0] for pt in points], float)
     p = np.array([pt[1] for pt in points], float)
+    front = None
+    if points and len(points[0]) >= 6:   # the flow along the fractures: each time step's slip front too
+        front = (t, np.array([pt[5] for pt in points], float))
     schedule = summary.get("propagation", {}).get("schedule")
     if schedule is not None:
         t, p = _through_the_schedule(t, p, Schedule.from_dict(schedule))
     lengths = [sum(n["length"] for n in st["networks"]) for st in steps]
     starts = [st["injection"]["history"][0][0] for st in steps]
     ends = [st["time"] for st in steps]
-    front = None
-    if points and len(points[0]) >= 6:   # the flow along the fractures: each time step's slip front too
-        front = (t, np.array([pt[5] for pt in points], float))
     return {"curve": (t, p), "front": front,
             "critical": (np.array(ends, float), np.array([st["injection"]["pressure"] for st in steps], float)),
             "unstable": np.array([bool(st["injection"].get("unstable")) for st in steps]),

@@ -31,7 +31,7 @@ from ..contact.friction import SLIP
 from ..flow.lubrication import Fluid, FlowState, Lubrication, Source
 from ..flow.network import FlowNetwork
 from ..flow.transfer import Samples, carry, sample
-from .schedule import Schedule
+from ..schedule import Schedule
 
 #: the largest ratio of one time step to the last
 GROWTH = 1.5

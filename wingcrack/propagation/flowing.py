@@ -123,7 +123,8 @@ class FlowRecord:
         volume = float(np.sum(geo.lub.volumes(geo.faces.w)))
         injection = {"injected": float(s.injected), "stored": float(s.stored), "leaked": float(s.leaked),
                      "pressure": p, "volume": volume, "held": float(s.initial), "unstable": bool(out.unstable),
-                     "partly_filled": False, "steps": int(out.steps), "solves": int(out.solves),
+                     "stopped": out.kind == "end", "partly_filled": False, "steps": int(out.steps),
+                     "solves": int(out.solves),
                      "history": [[float(x) for x in h] for h in out.history]}
         net = sorted(int(i) for i in loading.drive.network)
         networks = [{"fractures": net, "pressure": p, "volume": volume,
