@@ -15,8 +15,8 @@ where the factorisation has it on the faces), gives them all:
 f the pair rows' forces (R: each row's direction at its pair), p the flow
 nodes' pressures (G: the pressure load of the network, loads of the hats
 phi_i, as pair forces), w the opening [u].n at every edge node of the
-network (E: the edge's normal at its node's pair; a tip has no pair and no
-opening). S = R^T C R is the pair operator's own compliance. j_fixed and
+network (E: the node's pair's normal, the contact's, at its pair; a tip has
+no pair and no opening). S = R^T C R is the pair operator's own compliance. j_fixed and
 w_fixed are those of the loads the pressure leaves (bc values, gravity,
 the in-situ stress, other fractures' pressures): a solve at load factor 0.
 """
@@ -63,15 +63,21 @@ class FaceResponse:
         self.R = sparse.csr_matrix((np.asarray(rows.direction, float).ravel(),
                                     ((2 * np.asarray(rows.pair, np.int64)[:, None] + [0, 1]).ravel(),
                                      np.repeat(np.arange(m), 2))), shape=(2 * npair, m))
-        # E: the opening at an edge node is its edge's normal . its pair's jump (0 at a tip)
+        # E: the opening at an edge node is its node normal . its pair's jump (0 at a tip)
         k = net.num_edges
         q = net.pair.ravel()
         at = np.flatnonzero(q >= 0)
-        n = np.repeat(net.normal, 3, axis=0)[at]
-        self.E = sparse.csr_matrix((n.ravel(), (np.repeat(at, 2), (2 * q[at][:, None] + [0, 1]).ravel())),
-                                   shape=(3 * k, 2 * npair))
-        # G: the hats' pressure load as pair forces, the transpose of the opening's volume: G = E^T Phi^T
-        self.G = (self.E.T @ net.volume_matrix().T).tocsr()
+
+        def measure(normals):   # (3k, 2p): normals (k, 3, 2) . the edge nodes' pair jumps
+            n = np.asarray(normals, float).reshape(-1, 2)[at]
+            return sparse.csr_matrix((n.ravel(), (np.repeat(at, 2), (2 * q[at][:, None] + [0, 1]).ravel())),
+                                     shape=(3 * k, 2 * npair))
+
+        self.E = measure(net.node_normal)
+        # G: the hats' pressure load as pair forces (each edge's own normal; where the fractures are
+        # straight the transpose of the opening's volume: E^T Phi^T)
+        edge = np.broadcast_to(net.normal[:, None, :], (k, 3, 2))
+        self.G = (measure(edge).T @ net.volume_matrix().T).tocsr()
         CG = self.C @ self.G.toarray()
         CR = self.C @ self.R.toarray()
         self.S_rp = np.asarray(self.R.T @ CG)        # (m, n)

@@ -474,11 +474,11 @@ class Lubrication:
             off = np.asarray(abs(J).sum(axis=1)).ravel() - diag
         big = max(float(np.max(diag + off, initial=0.0)), 1e-300)
         dry = (diag + off) <= 1e-14 * big
-        if np.any(dry):   # hold their pressure: dp = 0
+        if np.any(dry):   # hold their pressure: dp = 0 (a diagonal of the matrix's own scale)
             if sparse.issparse(J):
                 keep = sparse.diags((~dry).astype(float))
-                J = (keep @ J + sparse.diags(dry.astype(float))).tocsr()
+                J = (keep @ J + sparse.diags(big * dry.astype(float))).tocsr()
             else:
                 J[dry] = 0.0
-                J[dry, dry] = 1.0
+                J[dry, dry] = big
         return J, dry

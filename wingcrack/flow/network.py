@@ -106,6 +106,9 @@ class FlowNetwork:
     normal: np.ndarray
     #: (k, 3) the CrackMesh pair (row of cm.pairs) of each edge node's + and - copies; -1 at a tip
     pair: np.ndarray
+    #: (k, 3, 2) the normal an edge node's opening is measured along: its pair's (the contact rows'
+    #: normal: at a kink of a polyline the mean of its two edges'), the edge's at a tip
+    node_normal: np.ndarray
     #: (2k, 2) the flow nodes at each segment's ends, and (2k,) its length (m)
     segments: np.ndarray
     length: np.ndarray
@@ -128,6 +131,8 @@ class FlowNetwork:
         plus, minus = plus_all[index], minus_all[index]
         normal = edge_normals(cm)[index] if len(index) else np.zeros((0, 2))
         pair = edge_pairs(cm, plus, minus)
+        pn = np.asarray(cm.pair_normal, float).reshape(-1, 2)
+        node_normal = np.where((pair >= 0)[:, :, None], pn[np.maximum(pair, 0)], normal[:, None, :])
         # one flow node per distinct point of the faces (every copy of a mesh node has its coordinates)
         pts, inverse = np.unique(x[plus].reshape(-1, 2), axis=0, return_inverse=True)
         edges = inverse.reshape(-1, 3).astype(np.int64)
@@ -154,7 +159,7 @@ class FlowNetwork:
             return out
 
         length = np.linalg.norm(pts[segments[:, 1]] - pts[segments[:, 0]], axis=1)
-        return cls(pts, edges, index, frac_all[index], plus, minus, normal, pair, segments, length,
+        return cls(pts, edges, index, frac_all[index], plus, minus, normal, pair, node_normal, segments, length,
                    interleave(*shape), interleave(*ds), interleave(*hat))
 
     @property
@@ -188,15 +193,17 @@ class FlowNetwork:
         w = np.asarray(w, float).reshape(-1, 3)
         return np.einsum("sqm,sm->sq", self.shape, np.repeat(w, 2, axis=0))
 
-    def jump_matrix(self, num_mesh_nodes: int) -> sparse.csr_matrix:
+    def jump_matrix(self, num_mesh_nodes: int, normals=None) -> sparse.csr_matrix:
         """(3k, 2 num_mesh_nodes) sparse D: D @ u (u the mesh's nodal
         displacements, row 2 node + component) is the opening w = [u].n at
-        each edge node, (k, 3) raveled; zero at a tip (both faces share its node)."""
+        each edge node, (k, 3) raveled, along its node_normal (the contact's
+        opening: w + gap >= 0), or along `normals` (k, 3, 2); zero at a tip
+        (both faces share its node)."""
         k = self.num_edges
         rows = np.repeat(np.arange(3 * k), 4)
         nodes = np.stack([self.plus.ravel(), self.plus.ravel(), self.minus.ravel(), self.minus.ravel()], axis=1)
         comp = np.tile([0, 1, 0, 1], (3 * k, 1))
-        n = np.repeat(self.normal, 3, axis=0)                        # (3k, 2)
+        n = (self.node_normal if normals is None else np.asarray(normals, float)).reshape(-1, 2)   # (3k, 2)
         vals = np.stack([n[:, 0], n[:, 1], -n[:, 0], -n[:, 1]], axis=1)
         return sparse.csr_matrix((vals.ravel(), (rows, (2 * nodes + comp).ravel())),
                                  shape=(3 * k, 2 * int(num_mesh_nodes)))
@@ -204,10 +211,15 @@ class FlowNetwork:
     def load_matrix(self, num_mesh_nodes: int) -> sparse.csr_matrix:
         """(2 num_mesh_nodes, n) sparse: column i holds the nodal forces (N/m)
         of the unit pressure phi_i on the faces, +p n on the + face, -p n on
-        the - face (it pushes them apart): the consistent P2 load of the
-        pressure field sum p_i phi_i, and the transpose of the volume of the
-        opening, (D^T volume_matrix^T): the pressure's work is p . V."""
-        return (self.jump_matrix(num_mesh_nodes).T @ self.volume_matrix().T).tocsr()
+        the - face (n each edge's own normal: it pushes them apart): the
+        consistent P2 load of the pressure field sum p_i phi_i. Where the
+        fractures are straight (every node's normal its edges') it is the
+        transpose of the volume of the opening, (D^T volume_matrix^T): the
+        pressure's work is p . V; at a kink the opening is measured along
+        the contact's normal (the mean of the edges'), the load pushes along
+        each edge's."""
+        edge = np.broadcast_to(self.normal[:, None, :], (self.num_edges, 3, 2))
+        return (self.jump_matrix(num_mesh_nodes, edge).T @ self.volume_matrix().T).tocsr()
 
     def components(self) -> np.ndarray:
         """(n,) the connected group of each node (0, 1, ...)."""

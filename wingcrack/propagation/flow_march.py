@@ -28,6 +28,7 @@ import numpy as np
 
 from ..contact.constraints import pre_existing_pairs
 from ..contact.friction import SLIP
+from ..errors import ComputationError
 from ..flow.lubrication import Fluid, FlowState, Lubrication, Source
 from ..flow.network import FlowNetwork
 from ..flow.transfer import Samples, carry, sample
@@ -156,7 +157,7 @@ def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
             nxt = x + step
         x, (f, slope, m) = nxt, excess(nxt)
     else:
-        raise ArithmeticError("the fluid carried to the grown fractures found no pressure that holds it")
+        raise ComputationError("the fluid carried to the grown fractures found no pressure that holds it")
     out = FlowState(carried.time, carried.pressure + x, m, carried.injected, carried.leaked, carried.exposed,
                     carried.initial)
     return out
@@ -308,7 +309,7 @@ def _step(drive, geo, state, target, out):
             return new, target - t
         except ArithmeticError:
             target = t + 0.5 * (target - t)
-    raise ArithmeticError(f"the flow found no state after {t:.6g} s even with a time step of {target - t:.3g} s")
+    raise ComputationError(f"the flow found no state after {t:.6g} s even with a time step of {target - t:.3g} s")
 
 
 def _keq_after(geo, state, keq):
