@@ -96,12 +96,14 @@ def test_a_rate_at_a_t_junction_splits_in_three():
 
 
 def test_carter_leak_off_of_a_fault_held_at_its_pressure():
-    """A conduit held at its initial pressure everywhere (given there at its
-    centre, an incompressible fluid, rigid faces): what leaks is replaced by
-    what is injected, and Carter's law gives both, 2 C_L sqrt(t) per metre
-    of both faces along the fracture's length (exact: the leak-off is
-    integrated in time exactly at each node)."""
-    L, CL = 10.0, 1e-5
+    """A conduit held at its initial pressure at its centre (an
+    incompressible fluid, rigid faces; a conduit of 1 cm, whose pressure
+    drop to feed the leak-off is a few Pa of its 1 MPa: the pressure stays
+    above the floor, no node drains): what leaks is replaced by what is
+    injected, and Carter's law gives both, 2 C_L sqrt(t) per metre of both
+    faces along the fracture's length (exact: the leak-off is integrated in
+    time exactly at each node)."""
+    L, CL, WH = 10.0, 1e-5, 1e-2
     cm = crack_mesh(Domain("rectangle", corner=[-3 * L, -3 * L], size=[6 * L, 6 * L]),
                     [np.array([[-L, 0.0], [L, 0.0]])], [], size=0.6 * L, tip_size=0.5)
     net = FlowNetwork.of(cm)
@@ -114,5 +116,8 @@ def test_carter_leak_off_of_a_fault_held_at_its_pressure():
         state, _ = lub.step(state, t, source)
         ref = 2 * CL * np.sqrt(t) * 2 * L
         assert state.leaked == pytest.approx(ref, rel=1e-12)
-        assert state.injected == pytest.approx(ref, rel=1e-9)
+        # the injected to the balance's round-off, of all the fluid there was (the conduit's fluxes, of
+        # 1 MPa over a long step, carry the pressure's round-off: 1e-11 of fluid here)
+        assert state.injected == pytest.approx(ref, abs=1e-9 * (state.initial + ref))
         assert abs(state.imbalance()) < BALANCE
+        assert np.ptp(state.pressure) < 1e-4 * P0

@@ -28,7 +28,13 @@ m - m^n + leaked - injected: the fluid balance holds to the Newton
 residual (solved to RTOL of the fluid), not to the discretisation error.
 A node whose faces neither store (no aperture, an incompressible fluid)
 nor conduct holds its pressure: it is dry (a closed wing's inside, where no
-fluid goes).
+fluid goes). The pressure does not fall below FLOOR (0: a fluid under
+tension cavitates): where the fluid cannot fill a node's faces (a dry
+fracture joined, a fast tip's suction) it holds FLOOR, partly filled. The
+unknown is q, the pressure p = max(q, FLOOR) above the floor and a deficit
+below it: node i holds m_i = rho(p_i) V_i + kappa_i min(q_i - FLOOR, 0) of
+fluid (kappa_i > 0 any scale), so that the equations stay one per node,
+semismooth in q.
 
 The openings come from the mechanics (`Mechanics`): `openings(p)` solves
 the faces at the pressure field p and returns w at every edge node, and
@@ -67,6 +73,11 @@ ROUND_OFF = 64 * np.finfo(float).eps
 STALL = 100.0
 #: the Tikhonov term of the Newton solve, relative to the Jacobian's largest entry
 REGULAR = 1e-12
+#: the lowest pressure (Pa): an absolute pressure below it is a fluid under tension, which cavitates;
+#: a node the fluid cannot fill holds FLOOR, partly filled (as the pump's network, propagation.fluid)
+FLOOR = 0.0
+#: kappa per metre of faces (m^2 of fluid per Pa of deficit per m): 1e-6 m of aperture a MPa
+DEFICIT_SCALE = 1e-12
 
 
 @dataclass(frozen=True)
@@ -175,9 +186,11 @@ class _Frozen(_Linearised):
 
 @dataclass
 class _Evaluation:
-    """The residual of the flow's equations at p (and the multiplier lam of a
-    given pressure), with what the Jacobian needs, its norm, the tolerance
-    and the scale it is measured against."""
+    """The residual of the flow's equations at the unknown p (q of the
+    module doc: the pressure where it is above the floor), the multiplier
+    lam of a given pressure, with what the Jacobian needs, the fluid each
+    node holds, the residual's norm, the tolerance and the scale it is
+    measured against."""
     p: np.ndarray
     lam: float
     R: np.ndarray
@@ -187,6 +200,7 @@ class _Evaluation:
     c: np.ndarray
     rho_s: np.ndarray
     dp: np.ndarray
+    held: np.ndarray = None
     norm: float = 0.0
     tol: float = 0.0
     scale: float = 0.0
@@ -202,8 +216,11 @@ class _StepProblem:
         self.given = source.pressure is not None
         self.wts = np.asarray(source.weights, float)
 
-    def evaluate(self, model, p, lam=None) -> _Evaluation:
+    def evaluate(self, model, q, lam=None) -> _Evaluation:
+        """The equations at the unknown q (module doc: p = max(q, 0), the
+        fluid rho V + kappa min(q, 0))."""
         lub, seg = self.lub, self.lub.net.segments
+        p = np.maximum(q, FLOOR)
         w = model.openings(p)
         rho = lub.fluid.density(p)
         V = lub.volumes(w)
@@ -211,7 +228,8 @@ class _StepProblem:
         rho_s = 0.5 * (rho[seg[:, 0]] + rho[seg[:, 1]])
         dp = p[seg[:, 0]] - p[seg[:, 1]]
         flux = rho_s * c * dp
-        R = rho * V - self.m_old + self.dt * (lub._G @ flux) + rho * self.carter
+        held = rho * V + lub.kappa * np.minimum(q - FLOOR, 0.0)
+        R = held - self.m_old + self.dt * (lub._G @ flux) + rho * self.carter
         if self.given:
             if lam is None:   # the multiplier that best balances the residual: the source's least squares
                 lam = float(self.wts @ R / (self.wts @ self.wts))
@@ -219,7 +237,7 @@ class _StepProblem:
         else:
             lam, r = 0.0, R - self.wts * self.source.volume
             R = r
-        e = _Evaluation(p, lam, R if not self.given else R, w, rho, V, c, rho_s, dp)
+        e = _Evaluation(q, lam, R if not self.given else R, w, rho, V, c, rho_s, dp, held=held)
         e.norm = float(np.max(np.abs(r), initial=0.0))
         # the residual's scale: the fluid that moves in the step (the inflow, the leak-off, the change of
         # the fluid held), floored at the round-off of its terms (the fluid held, the fluxes: a
@@ -228,7 +246,7 @@ class _StepProblem:
         # `resolution`, m), so that the balance of the totals holds to RTOL of what came and went,
         # however much the network held before
         moved = max(abs(lam) if self.given else abs(self.source.volume), float(np.sum(rho * self.carter)),
-                    float(np.max(np.abs(rho * V - self.m_old), initial=0.0)))
+                    float(np.max(np.abs(held - self.m_old), initial=0.0)))
         level = rho_s * c * (np.abs(p[seg[:, 0]]) + np.abs(p[seg[:, 1]]))   # a flux's terms: p's round-off
         noise = ROUND_OFF * (np.abs(self.m_old) + self.dt * (abs(lub._G) @ level)) + \
             rho * lub.lengths * model.resolution
@@ -299,6 +317,9 @@ class Lubrication:
         self.hydraulic = np.full(k, np.nan) if hydraulic is None else np.asarray(hydraulic, float).reshape(k)
         self.Phi = network.volume_matrix()
         self.lengths = network.tributary()
+        #: the fluid a node's deficit q < FLOOR stands for, per Pa (m^2/Pa: any scale; a nominal aperture a
+        #: nominal pressure): the unknown's meaning below the floor, no result depends on it
+        self.kappa = self.lengths * DEFICIT_SCALE
         conduit = np.repeat(np.isfinite(self.hydraulic), 2)   # per segment
         self._conduit = conduit
         seg_h = np.repeat(np.nan_to_num(self.hydraulic), 2)
@@ -407,14 +428,14 @@ class Lubrication:
         accepted = []   # the residual norms of the states the outer iteration moved to
         best = None
 
-        def solved(p_new, lam):   # the mechanics solved at p_new, and the flow's residual there
-            w = mechanics.openings(p_new)
+        def solved(q, lam):   # the mechanics solved at the pressure of the unknown q, and the flow's residual there
+            w = mechanics.openings(np.maximum(q, FLOOR))
             info.solves += 1
-            return w, problem.evaluate(_Frozen(w, getattr(mechanics, "resolution", 0.0)), p_new, lam)
+            return w, problem.evaluate(_Frozen(w, getattr(mechanics, "resolution", 0.0)), q, lam)
 
         while True:
             model = _Linearised(p_k, w_k, W_k, getattr(mechanics, "resolution", 0.0))
-            p_new, lam = problem.newton(model, p if best is None else p_k, lam, info)
+            p_new, lam = problem.newton(model, p if best is None else q_k, lam, info)
             w, true = solved(p_new, lam)
             if true.norm <= true.tol:
                 break
@@ -439,18 +460,21 @@ class Lubrication:
                                       f"(residual {true.norm / true.scale:.3g} of the fluid)")
             accepted.append(true.norm)
             best = true if best is None or true.norm < best.norm else best
-            p_k, w_k, W_k = p_new, w, mechanics.derivative()
-        m = true.rho * true.V
+            q_k = p_new
+            p_k, w_k, W_k = np.maximum(p_new, FLOOR), w, mechanics.derivative()
+        m = true.held
         injected = true.lam if source.pressure is not None else float(source.volume)
         leaked = float(np.sum(true.rho * carter))
         info.residual = true.norm / true.scale
-        out = FlowState(float(t1), p_new, m, state.injected + injected, state.leaked + leaked, state.exposed.copy(),
-                        state.initial)
+        out = FlowState(float(t1), np.maximum(p_new, FLOOR), m, state.injected + injected, state.leaked + leaked,
+                        state.exposed.copy(), state.initial)
         return out, info
 
-    def _jacobian(self, mechanics, w, rho, V, c, rho_s, dp, dt, carter, p):
-        """dR/dp (sparse, or dense where the mechanics has a derivative) and
-        the dry nodes (a zero row: neither storage nor conductance)."""
+    def _jacobian(self, mechanics, w, rho, V, c, rho_s, dp, dt, carter, q):
+        """dR/dq (sparse, or dense where the mechanics has a derivative) and
+        the dry nodes (a zero row: neither storage nor conductance): the
+        pressure's derivative where q is above the floor, the deficit's
+        kappa where it is below."""
         fl, net = self.fluid, self.net
         seg = net.segments
         cf = fl.compressibility
@@ -462,14 +486,17 @@ class Lubrication:
                                shape=(k_s, net.num_nodes))
         J = sparse.diags(cf * rho * (V + carter)) + dt * (self._G @ dF)
         W = mechanics.derivative()
+        above = (np.asarray(q) > FLOOR).astype(float)   # dp/dq
+        below = self.kappa * (1.0 - above)
         if W is not None:   # the faces move with p: the storage's and the conductances' share
             W = np.asarray(W, float)
             dc = self.conductance_derivative(w)
             J = J.toarray() + rho[:, None] * (self.Phi @ W) + dt * (self._G @ sparse.diags(rho_s * dp) @ dc @ W)
+            J = J * above[None, :] + np.diag(below)
             diag = np.abs(np.diag(J))
             off = np.abs(J).sum(axis=1) - diag
         else:
-            J = J.tocsr()
+            J = (J @ sparse.diags(above) + sparse.diags(below)).tocsr()
             diag = np.abs(J.diagonal())
             off = np.asarray(abs(J).sum(axis=1)).ravel() - diag
         big = max(float(np.max(diag + off, initial=0.0)), 1e-300)

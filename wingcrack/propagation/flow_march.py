@@ -29,7 +29,7 @@ import numpy as np
 from ..contact.constraints import pre_existing_pairs
 from ..contact.friction import SLIP
 from ..errors import ComputationError
-from ..flow.lubrication import Fluid, FlowState, Lubrication, Source
+from ..flow.lubrication import FLOOR, Fluid, FlowState, Lubrication, Source
 from ..flow.network import FlowNetwork
 from ..flow.transfer import Samples, carry, sample
 from ..schedule import Schedule
@@ -123,7 +123,8 @@ def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
     """The carried fluid on a grown geometry, spread at once: the carried
     pressure's shape shifted by the one constant at which the network,
     solved there, holds the fluid it held (a safeguarded Newton on the
-    shift, V rising with it), each node's fluid the mechanics' there. The
+    shift, the fluid held rising with it; below the floor partly filled,
+    as in the flow's step), each node's fluid the mechanics' there. The
     growth is the instant of a step: the fluid no flow has yet carried into
     the new crack is spread by the balance, exactly as the pump without
     viscosity spreads it, and the flow then goes on from a state whose
@@ -131,17 +132,21 @@ def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
     fl = lub.fluid
     total = float(np.sum(carried.fluid))
 
-    def excess(shift):
-        p = carried.pressure + shift
+    def excess(shift):   # the fluid the shifted field holds (partly filled below the floor), and its slope
+        q = carried.pressure + shift
+        p = np.maximum(q, FLOOR)
+        above = q > FLOOR
         w = faces.openings(p)
         rho = fl.density(p)
         V = lub.volumes(w)
-        slope = float(np.sum(fl.compressibility * rho * V) + np.sum(rho * (lub.Phi @ faces.derivative()).sum(axis=1)))
-        return float(np.sum(rho * V)) - total, slope, rho * V
+        held = rho * V + lub.kappa * np.minimum(q - FLOOR, 0.0)
+        slope = float(np.sum((fl.compressibility * rho * V + rho * (lub.Phi @ faces.derivative()).sum(axis=1))[above])
+                      + np.sum(lub.kappa[~above]))
+        return float(np.sum(held)) - total, slope, held, p
 
     scale = max(float(np.max(np.abs(carried.pressure))), 1.0)
     lo = hi = None
-    x, (f, slope, m) = 0.0, excess(0.0)
+    x, (f, slope, m, p) = 0.0, excess(0.0)
     for _ in range(200):
         if abs(f) <= 1e-12 * max(total, 1e-300):
             break
@@ -155,12 +160,10 @@ def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
             nxt = 0.5 * (lo + hi)
         elif lo is None and nxt >= x or hi is None and nxt <= x:
             nxt = x + step
-        x, (f, slope, m) = nxt, excess(nxt)
+        x, (f, slope, m, p) = nxt, excess(nxt)
     else:
         raise ComputationError("the fluid carried to the grown fractures found no pressure that holds it")
-    out = FlowState(carried.time, carried.pressure + x, m, carried.injected, carried.leaked, carried.exposed,
-                    carried.initial)
-    return out
+    return FlowState(carried.time, p, m, carried.injected, carried.leaked, carried.exposed, carried.initial)
 
 
 @dataclass
