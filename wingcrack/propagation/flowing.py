@@ -1,13 +1,14 @@
 """A flowing step (injection.viscosity: the fluid flows along the
 fractures), as the loop sees it: the loading (loading.Fixed's face) whose
 steps are states in time. On the step's geometry the flow marches
-(flow_march.py) until a growing tip reaches KIc (the step grows there), a
+(flow_march.py) until a growing tip arrives (K_eq at KIc, or at the
+apparent toughness of a moving tip, viscous_tip.py: the step grows there), a
 frame time (the step is recorded, nothing grows, and the next step goes on
 on the same geometry: `Found.frame`) or the end (the run stops there,
 recorded). The load factor is 1: the faces carry the flow's pressure field.
 
 A step's record holds its time, the injection {injected, stored, leaked,
-pressure at the point, history of its time steps [t, p, injected, stored,
+pressure and opening at the point, history of its time steps [t, p, injected, stored,
 leaked, slip front], steps, solves} and the network's fractures with the
 pressure at the point and their volume. A committed step that grew leaves
 the fluid along the fractures (flow.transfer.Samples) for the next
@@ -22,9 +23,11 @@ import numpy as np
 
 import wingcrack_kernels as K
 from .. import progress, sifs
+from ..material import e_prime
 from ..flow.transfer import Samples
 from .flow_march import FlowDrive, Geometry, march
 from .loading import Fixed, Found, largest_keq
+from .viscous_tip import TipMotion, driving_ratio
 
 
 class Flowing(Fixed):
@@ -56,11 +59,14 @@ class Flowing(Fixed):
             progress.doing("the flow on the step's faces")
             self.geo = Geometry.of(self.drive, case, disc, fset.fractures)
         polylines = fset.polylines()
+        m = case.material
+        Ep, mup = e_prime(m.E, m.nu, m.plane), 12.0 * self.drive.fluid.viscosity
 
-        def keq():
+        def keq(t):   # KIc K_eq / K_app(V): the tips' arrival (viscous_tip.py) at KIc
             KI, KII = sifs.driving(case, disc, polylines)
-            th = K.mts_angle(KI[grow], KII[grow])
-            k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
+            keq_all = np.zeros(len(KI))
+            keq_all[grow] = K.equivalent_k(KI[grow], KII[grow], K.mts_angle(KI[grow], KII[grow]))
+            k = m.KIc * driving_ratio(keq_all, disc.cm.tips, grow, self.drive.motion, t, m.KIc, Ep, mup)
             sifs.require_finite("K_eq", k)
             return k
 
@@ -89,6 +95,7 @@ class Flowing(Fixed):
         self.drive.samples = geo.samples(done)
         if self.out is None or self.out.kind != "growth":
             return
+        self.drive.motion = TipMotion.after_growth(geo.disc.cm.tips, fset, self.drive.time)
         self.geo = None
         if self.drive.connect:
             group = next(g for g in fset.connected_groups() if self.drive.fracture in g)
@@ -97,12 +104,13 @@ class Flowing(Fixed):
     def state(self) -> dict:
         d = self.drive
         return {"network": list(d.network), "time": d.time, "dt": d.dt,
-                "samples": None if d.samples is None else d.samples.to_dict()}
+                "samples": None if d.samples is None else d.samples.to_dict(), "motion": d.motion.to_list()}
 
     def restore(self, state) -> None:
         d = self.drive
         d.network, d.time, d.dt = [int(i) for i in state["network"]], float(state["time"]), state["dt"]
         d.samples = None if state["samples"] is None else Samples.from_dict(state["samples"])
+        d.motion = TipMotion.from_list(state.get("motion"))
         self.geo = None
 
 
@@ -122,7 +130,8 @@ class FlowRecord:
         p = geo.injection_pressure()
         volume = float(np.sum(geo.lub.volumes(geo.faces.w)))
         injection = {"injected": float(s.injected), "stored": float(s.stored), "leaked": float(s.leaked),
-                     "pressure": p, "volume": volume, "held": float(s.initial), "unstable": bool(out.unstable),
+                     "pressure": p, "opening": geo.injection_opening(), "volume": volume, "held": float(s.initial),
+                     "unstable": bool(out.unstable),
                      "stopped": out.kind == "end", "partly_filled": False, "steps": int(out.steps),
                      "solves": int(out.solves),
                      "history": [[float(x) for x in h] for h in out.history]}
