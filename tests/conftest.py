@@ -33,6 +33,7 @@ SLOW_FILES = {
     "tests/command_line/test_resume.py",
     "tests/robustness/test_unwritable_output.py",
     "tests/verification/test_injection_kgd.py",
+    "tests/verification/test_flow_kgd_viscous.py",
     "tests/verification/test_injection_breakdown.py",
     "tests/verification/test_injection_prebreakdown.py",
     "tests/verification/test_injection_quasi_static.py",
