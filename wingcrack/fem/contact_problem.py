@@ -144,11 +144,9 @@ class ContactProblem:
             eq = (rows.normal & A) | prescribed | (T == STICK)
             return sd.respond(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), target, p.b, y)
 
-        # the complementarity parameters' scale: a jump of the faces against a force per unit length, ~E
-        lam, mu_l = float(p.lam.value), float(p.mu.value)
-        c0 = 4.0 * mu_l * (lam + mu_l) / (lam + 2.0 * mu_l)
         progress.doing(f"contact at load factor {load_factor:.6g}: {len(rows)} pair rows, a saddle-point system a set")
-        res = solve_by_sets(solve, jump0, target, rows.normal, law, c0, active=active, start=self.result,
+        # the complementarity parameters' scale: a force per unit length against a jump of the faces, ~E
+        res = solve_by_sets(solve, jump0, target, rows.normal, law, sd.stiffness, active=active, start=self.result,
                             respond=respond)
         arr = u.vector.getArray()
         arr[:n] = last["u"]
