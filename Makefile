@@ -16,7 +16,7 @@ APT_PACKAGES := python3-dolfinx-real python3-gmsh libeigen3-dev pybind11-dev \
   python3-tqdm python3-pytest python3-venv python3-dev cmake g++ make ninja-build \
   libopenblas0-serial openmpi-bin \
   python3-nbclient python3-nbformat python3-ipykernel \
-  python3-sphinx python3-myst-parser python3-nbsphinx pandoc
+  python3-sphinx python3-myst-parser python3-nbsphinx pandoc libjs-mathjax
 KERNEL_FILES := $(wildcard cpp_kernels/*/*.cpp cpp_kernels/include/wingcrack/*.hpp) CMakeLists.txt pyproject.toml
 STAMP := $(VENV)/.wingcrack-installed
 # The editable install maps each Python module to its file once: a module added, moved or
@@ -62,9 +62,12 @@ demo: setup
 
 test: setup test-cpp test-cpp-sanitize test-py docs
 
-# The site (docs/, MyST Markdown) in build/docs/html; every warning is an error.
+# The site (docs/, MyST Markdown) in build/docs/html; every warning is an error. The
+# notebooks are shown with the outputs of their executed copies in build/notebooks/
+# (the notebook test keeps them; a missing or stale one is executed here).
 docs: setup
 	$(PY) benchmarks/doc_tables.py
+	$(PY) docs/executed_notebooks.py
 	$(PY) -m sphinx -b html -W --keep-going -n -q docs build/docs/html
 
 test-cpp: apt

@@ -22,12 +22,17 @@ from propagation import table_runs
 ROOT = Path(__file__).resolve().parents[1]
 
 #: the table of docs/theory/fluid-pressure.md: 4.3 with its imposed slip, with friction, driven by injection
-CASES = ["three_fractures_slip", "three_fractures_friction", "three_fractures_injection"]
+#: (at a given pressure, and by a pump)
+CASES = ["three_fractures_slip", "three_fractures_friction", "three_fractures_injection",
+         "three_fractures_injection_rate"]
 
 
 def load_at(case: dict, factor: float) -> str:
-    """The physical load at a load factor: the imposed slip (mm) or the injection pressure (MPa)."""
+    """The physical load at a load factor: the imposed slip (mm) or the injection pressure (MPa; a
+    pump's load factor is its network's pressure in Pa)."""
     fr = case["fractures"]
+    if case.get("propagation", {}).get("load") == "injection":
+        return f"p = {factor / 1e6:.4g} MPa"
     if case.get("propagation", {}).get("load") == "pressure":
         p = max(f.get("pressure", 0.0) for f in fr)
         return f"p = {factor * p / 1e6:.4g} MPa"

@@ -8,7 +8,9 @@ Prints, each section marked:
 - every case of cases/ end to end, with the issue's phases per step and the
   ratios to today (cases.py, against benchmarks/baseline.json);
 - what friction changes in the cases (friction_cases.py) and what injection
-  changes in paper 4.3 (pressure_cases.py), read from those same runs;
+  changes in paper 4.3 (pressure_cases.py), read from those same runs, and
+  what a step of a pumped run costs against the given pressure
+  (injection_cost.py);
 - each Coulomb case's friction solves against the frictionless solve of the
   same pair system, and its worst step against its median (friction_solve.py);
 - what the pictures cost: the disc run with pictures over --no-plots, paired
@@ -176,6 +178,7 @@ def main(argv=None):
     import targets
     from friction_cases import main as friction_table
     from friction_solve import coulomb_cases, main as friction_solve
+    from injection_cost import main as injection_cost
     from mesh_disc import main as bench_mesh
     from pictures_cost import main as pictures_cost
     from pressure_cases import main as pressure_table
@@ -203,6 +206,8 @@ def main(argv=None):
         section("what friction changes, what injection changes (the same runs)")
         friction_table([str(out / "cases")], runs=runs)
         pressure_table([str(out / "cases")], runs=runs)
+        section("a step of a pumped run against the same case under a given pressure (the same runs)")
+        injection_cost(runs=runs)
         chosen = [n for n in names if n in coulomb_cases()]
         if chosen:
             section("the friction solve against the frictionless one, and the worst step, per Coulomb case")

@@ -1,5 +1,5 @@
 """What geometry can be meshed: the one set of rules that `wingcrack check`
-(wingcrack/case.py), the mesher (meshing/mesher.py), meshing.Domain and
+(wingcrack/case/), the mesher (meshing/mesher.py), meshing.Domain and
 the growth of tips (propagation/joining.py) share, so that what the check
 accepts the mesher meshes, and what growth makes the next mesh takes.
 
@@ -36,6 +36,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import wingcrack_kernels as K
+from scipy.spatial import cKDTree
 
 from meshing import network
 from meshing.junction_rules import (fracture_ends, ends_on_or_apart, fractures_meet, joined, joined_ends, joins,
@@ -64,12 +66,11 @@ class Rosette:
     h: float
 
 
-def _kernels():
-    """The compiled geometry kernels (loaded on first use: `import meshing`
-    must stay light)."""
-    import wingcrack_kernels
-
-    return wingcrack_kernels
+def _hits(a, b, p, q) -> np.ndarray:
+    """(k,) bool: whether the segment [a, b] meets each segment [p, q] (rows
+    of (k, 2)) at REL_TOL (the kernel's segment_intersection, one call)."""
+    k = len(p)
+    return K.segment_intersections(np.tile(a, (k, 1)), np.tile(b, (k, 1)), p, q, REL_TOL)[0]
 
 
 # ---------------------------------------------------------------- the domain
@@ -88,7 +89,6 @@ def scale(size: float, offset: float, size_key: str, offset_key: str) -> Problem
 
 def polygon(pts: np.ndarray, key: str) -> Problem | None:
     """Edges of non-zero length, no two crossing or touching, a positive area, counter-clockwise."""
-    K = _kernels()
     pts = np.asarray(pts, dtype=np.float64)
     extent = float(np.ptp(pts, axis=0).max())
     tol = REL_TOL * max(extent, np.finfo(float).tiny)
@@ -100,9 +100,10 @@ def polygon(pts: np.ndarray, key: str) -> Problem | None:
     if K.polyline_self_intersects(pts, REL_TOL):
         return Problem(key, "the polygon intersects itself")
     n = len(pts)
-    for j in range(1, n - 2):  # the closing edge (n-1 -> 0) against every edge not adjacent to it
-        if K.segment_intersection(pts[n - 1], pts[0], pts[j], pts[j + 1], REL_TOL)[0]:
-            return Problem(key, f"the polygon intersects itself (edge{n - 1} meets edge{j})")
+    # the closing edge (n-1 -> 0) against every edge j not adjacent to it, j = 1 ... n-3
+    met = np.flatnonzero(_hits(pts[n - 1], pts[0], pts[1:n - 2], pts[2:n - 1]))
+    if len(met):
+        return Problem(key, f"the polygon intersects itself (edge{n - 1} meets edge{met[0] + 1})")
     if abs(area2) <= tol * extent:
         return Problem(key, "the polygon has no area")
     if area2 < 0:
@@ -150,7 +151,6 @@ def fracture(pts: np.ndarray, key: str, domain) -> Problem | None:
     to boundary), segments of non-zero length, not crossing itself (a
     polyline of three or more segments may close on itself: last point on
     the first) or the boundary."""
-    K = _kernels()
     tol = REL_TOL * float(domain.length_scale())
     far = far_outside_each(domain, pts)
     if far.any():
@@ -163,8 +163,7 @@ def fracture(pts: np.ndarray, key: str, domain) -> Problem | None:
     n = len(pts)
     if n > 3 and np.linalg.norm(pts[-1] - pts[0]) <= tol:   # a ring: its two ends meet
         ring = pts[:-1]
-        if K.polyline_self_intersects(ring, REL_TOL) or any(
-                K.segment_intersection(pts[-2], pts[-1], pts[j], pts[j + 1], REL_TOL)[0] for j in range(1, n - 3)):
+        if K.polyline_self_intersects(ring, REL_TOL) or _hits(pts[-2], pts[-1], pts[1:n - 3], pts[2:n - 2]).any():
             return Problem(key, "the polyline intersects itself")
     elif n > 2 and K.polyline_self_intersects(pts, REL_TOL):
         return Problem(key, "the polyline intersects itself")
@@ -184,19 +183,16 @@ def fracture(pts: np.ndarray, key: str, domain) -> Problem | None:
     if off.any():
         return Problem(key, f"segment {int(np.argmax(off))} runs along or outside the boundary")
     if domain.shape == "polygon":  # rectangles and discs are convex
-        poly = domain.vertices()
+        poly = np.asarray(domain.vertices(), float)
         m = len(poly)
-        for i in range(n - 1):
-            for j in range(m):
-                hit, _, _, x = K.segment_intersection(pts[i], pts[i + 1], poly[j], poly[(j + 1) % m], REL_TOL)
-                if not hit:
-                    continue
-                x = np.asarray(x)
-                at_mouth = (i == 0 and np.linalg.norm(x - pts[0]) <= tol) or (
-                    i == n - 2 and np.linalg.norm(x - pts[-1]) <= tol
-                )
-                if not at_mouth:
-                    return Problem(key, f"segment {i} crosses the boundary edge{j}")
+        i, j = np.divmod(np.arange((n - 1) * m), m)   # every segment i against every boundary edge j, i first
+        hit, _, _, x = K.segment_intersections(pts[i], pts[i + 1], poly[j], np.roll(poly, -1, axis=0)[j], REL_TOL)
+        for k in np.flatnonzero(hit):
+            at_mouth = (i[k] == 0 and np.linalg.norm(x[k] - pts[0]) <= tol) or (
+                i[k] == n - 2 and np.linalg.norm(x[k] - pts[-1]) <= tol
+            )
+            if not at_mouth:
+                return Problem(key, f"segment {i[k]} crosses the boundary edge{j[k]}")
     return None
 
 
@@ -276,8 +272,6 @@ def rosettes(domain, polylines, tips: list[Rosette], tip: float, key: str = "mes
                                 f"({short_of(dk / t.h, rk, 7)} radii) "
                                 f"from it, it needs {rk:g} radii")
     if len(tips) > 1:
-        from scipy.spatial import cKDTree
-
         pairs = cKDTree(x).query_pairs(float(rosettes_apart(h.max(), h.max())) + margin, output_type="ndarray")
         if len(pairs):
             i, j = pairs.min(axis=1), pairs.max(axis=1)
@@ -314,7 +308,6 @@ def segments_hold_rosettes(polylines, tip: float, key: str = "mesh.tip_size") ->
 
 def bc_point(p, key: str, domain, polylines) -> Problem | None:
     """A point condition's place: on the boundary, not on a fracture's mouth."""
-    K = _kernels()
     tol = REL_TOL * float(domain.length_scale())
     if far_outside(domain, p):
         return Problem(key, f"({p[0]:g}, {p[1]:g}) is not on the boundary (it is far outside the domain)")

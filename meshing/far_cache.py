@@ -3,6 +3,9 @@ into a mesh whose far field is the same."""
 
 from __future__ import annotations
 
+import hashlib
+import pickle
+
 import numpy as np
 
 
@@ -28,9 +31,6 @@ class FarCache:
         the anchors, the fractures and tips outside the circle (by their
         place among those outside), the circle, the outer divider, the
         sizes and the size field, the algorithm."""
-        import hashlib
-        import pickle
-
         group = [f for f, i in enumerate(inside) if not i]
         where = {f: k for k, f in enumerate(group)}
 
@@ -72,7 +72,7 @@ class FarCache:
         far cells in front: a cached node on the far field's boundary is
         gmsh's node of the same coordinates (same bits), a cached interior
         node a new tag. Raises CacheMiss when a boundary node has no match."""
-        import gmsh
+        import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
         cells, interior = cached
         if far.any():

@@ -24,7 +24,7 @@ def mesh_with_gmsh(domain, plan: Plan, size, tip_size, sectors, sizes, algorithm
     the half on the left of the divider only; the other half's tips and crack
     curves are then free geometry that only shapes the size field. scratch: a
     directory for the size grid file (needed when `sizes` is given)."""
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     geo = gmsh.model.geo
     gmsh.model.add("wingcrack")
@@ -174,7 +174,7 @@ def vertex_at(plan, anchor_tag, vertex_tags, geo, q) -> int:
 def mirror_dividers(half, dividers) -> None:
     """Each divider's second half mirrors its first, node for node (gmsh
     periodic curves under the half turn about the centre)."""
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     cx, cy = half.center
     turn = [-1.0, 0.0, 0.0, 2.0 * cx, 0.0, -1.0, 0.0, 2.0 * cy, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]

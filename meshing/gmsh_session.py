@@ -18,7 +18,7 @@ from meshing.records import RawMesh
 
 def gmsh_session(domain, plan, size, tip_size, sectors, sizes, half, mirror_sizes, algorithm,
                  circle=None) -> RawMesh:
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     with _scratch() as scratch:
         gmsh.initialize(readConfigFiles=False)
@@ -52,7 +52,7 @@ LC_INTEGRATION_PRECISION = 1e-7
 
 def _session_options() -> None:
     """The options every session of this module starts with."""
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("Mesh.LcIntegrationPrecision", LC_INTEGRATION_PRECISION)

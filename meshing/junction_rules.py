@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from meshing import network
 from meshing.rules import (JUNCTION_GAP, MIN_JUNCTION_ANGLE, NEAR_MISS, REL_TOL, TIP_CLEARANCE, Problem,
@@ -136,8 +137,6 @@ def junctions_apart(domain, net: network.Joined, polylines, tip: float, margin: 
         key, x = where(int(near[0]))
         return Problem(key, f"fractures meet at ({x[0]:.6g}, {x[1]:.6g}), {short_of(float(d[near[0]]), gap, 3)} m from "
                             f"the boundary: a junction keeps at least {JUNCTION_GAP:g} tip_size ({gap:g} m) from it")
-    from scipy.spatial import cKDTree
-
     pairs = cKDTree(nodes).query_pairs(gap + margin, output_type="ndarray") if len(nodes) > 1 else ()
     if len(pairs):
         i, j = min((int(min(p)), int(max(p))) for p in pairs)

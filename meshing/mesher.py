@@ -51,6 +51,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+import wingcrack_kernels as _kernels
 
 from meshing import point_symmetry
 from meshing.domain import Domain
@@ -262,8 +263,6 @@ def _finish(domain, plan, frame, half, raw: RawMesh, patched: bool) -> CrackMesh
     """The CrackMesh of gmsh's `raw` mesh (in gmsh's frame): the half glued
     to its image, the crack faces split, quarter points at the tips,
     checked, back in the caller's frame."""
-    import wingcrack_kernels as _kernels
-
     if half is not None:
         raw = _glue(domain, plan, half, raw)
     t0 = time.perf_counter()

@@ -27,6 +27,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 
 @dataclass
@@ -61,6 +64,19 @@ class Joined:
         """(f, end) -> the fracture it met, for every end that is no tip
         because it lies on a fracture (junction and met ends)."""
         return dict(self.partner)
+
+    def group_of(self, f: int) -> list:
+        """The sorted fractures that meet fracture f, directly or through
+        others (at a T, end to end, at an X), f among them."""
+        seen, todo = {f}, [f]
+        while todo:
+            g = todo.pop()
+            for members in self.nodes.values():
+                met = {h for h, _ in members}
+                if g in met:
+                    todo += sorted(met - seen)
+                    seen |= met
+        return sorted(seen)
 
 
 # ---------------------------------------------------------------- searches
@@ -101,8 +117,6 @@ def _pieces(a, b):
 def near_segment_pairs(a, b, pad: float):
     """(i, j), i < j: every pair of segments [a, b] that may come within
     `pad` of each other (a superset: the caller measures)."""
-    from scipy.spatial import cKDTree
-
     m = len(a)
     if m < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
@@ -119,7 +133,6 @@ def segments_near_points(p, radius, a, b):
     """(point, segment) index pairs, each point with every segment that may
     pass within radius[point] of it (a superset), sorted by point, then
     segment."""
-    from scipy.spatial import cKDTree
 
     p = np.asarray(p, dtype=np.float64).reshape(-1, 2)
     radius = np.broadcast_to(np.asarray(radius, dtype=np.float64), (len(p),))
@@ -345,10 +358,6 @@ def _join_crossings(out: Joined, free: set, mouths: set, tol: float) -> None:
 def _clusters(x, tol) -> list:
     """Groups of the points x (k, 2) linked by distances <= tol (transitively),
     each sorted, in order of their first member."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
-
     pairs = cKDTree(x).query_pairs(tol, output_type="ndarray") if len(x) > 1 else np.zeros((0, 2), np.int64)
     n = len(x)
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))

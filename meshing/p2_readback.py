@@ -82,7 +82,7 @@ class _P2:
 
 
 def _gmsh_mesh():
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     return gmsh.model.mesh
 

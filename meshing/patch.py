@@ -116,7 +116,7 @@ def mesh_patched(domain, plan: Plan, size, tip_size, sectors, sizes, algorithm, 
     patch half on the left of the inner one (point_symmetry.Inner).
     When the far field is the one this process meshed last (FarCache), its
     surfaces are not meshed (reuse False: meshed in any case)."""
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     geo = gmsh.model.geo
     gmsh.model.add("wingcrack")

@@ -8,6 +8,7 @@ import math
 import os
 
 import numpy as np
+import wingcrack_kernels as _kernels
 
 from meshing.clearance import GRADING, TIP_GRADING
 from meshing.plan import Plan
@@ -28,7 +29,7 @@ def size_field(plan: Plan, tip_points, crack_curves, size, tip_size, sectors, si
     own (crack_curves then unused), so that one group's sampling does not depend on the
     others' (the patch's far field and its inside); circle: (curves, spacing) the patch
     circle, h <= spacing + GRADING dist: cells graded from its fixed nodes."""
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     field = gmsh.model.mesh.field
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
@@ -83,7 +84,7 @@ def size_field(plan: Plan, tip_points, crack_curves, size, tip_size, sectors, si
 # The size grid's spacing in units of the smallest size in the field: a mesh of
 # that size cannot represent variations finer than itself, and half of it puts
 # two grid steps in every such element. Finer grids cost more to write and to
-# read without changing the meshes (the open disc's: the same cell counts to
+# read without changing the meshes (a cracked disc's: the same cell counts to
 # 1.5 % from 1 to 1/4 of the smallest size).
 GRID_SPACING = 0.5
 # At most this many grid nodes (8 bytes each in the file gmsh reads back):
@@ -99,8 +100,7 @@ def _grid_field(tri, vals, box, size, path) -> int:
     P1 field (tri (m, 3, 2), vals (m, 3)); where several triangles overlap (a
     field and its image) the smallest value. gmsh reads `path` lazily, while
     meshing: it must stay until the mesh is generated."""
-    import gmsh
-    import wingcrack_kernels as _kernels
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     lo, step, counts = _grid(_binding_box(tri, vals, box, size), float(vals.min()))
     grid = _kernels.rasterise_p1(tri, vals, lo, [step, step], counts, size)
@@ -158,7 +158,7 @@ def _grid(box, smallest: float) -> tuple[np.ndarray, float, np.ndarray]:
 
 
 def _threshold(distance_field, h0, size, d0, grading=GRADING):
-    import gmsh
+    import gmsh  # 0.6 s: loaded by the first mesh (worker.load_gmsh), never by check
 
     field = gmsh.model.mesh.field
     t = field.add("Threshold")

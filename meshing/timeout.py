@@ -1,7 +1,7 @@
 """Run a meshing function under a wall-clock limit.
 
-gmsh's meshers can loop forever on awkward geometry (the published code of
-the paper hangs at step 35 of the 45-degree disc), and a C++ loop cannot be
+gmsh's meshers can loop forever on awkward geometry (the paper's published
+code hangs so in one of its own runs), and a C++ loop cannot be
 interrupted from Python. So the work runs in the long-lived meshing process
 (meshing/worker.py), which is killed on timeout; `MeshTimeout` is raised.
 The work may be started and collected later (start_with_timeout), so that

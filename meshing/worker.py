@@ -51,9 +51,9 @@ def load_gmsh() -> None:
 
 def load_worker_modules() -> None:
     """What the meshing worker imports at its start (overlapping its
-    caller's start-up): gmsh and the compiled kernels that finish a mesh."""
-    import gmsh  # noqa: F401
-    import wingcrack_kernels  # noqa: F401
+    caller's start-up): gmsh (the meshing package, imported with this
+    module, brings the compiled kernels that finish a mesh)."""
+    import gmsh  # noqa: F401  (the worker's own start-up: meshing imports gmsh in functions only)
 
 
 def start_worker() -> None:

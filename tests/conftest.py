@@ -32,6 +32,11 @@ SLOW_FILES = {
     "tests/robustness/test_random_networks.py",
     "tests/command_line/test_resume.py",
     "tests/robustness/test_unwritable_output.py",
+    "tests/verification/test_injection_kgd.py",
+    "tests/verification/test_injection_breakdown.py",
+    "tests/verification/test_injection_prebreakdown.py",
+    "tests/verification/test_injection_quasi_static.py",
+    "tests/command_line/test_injection_run.py",
 }
 #: single slow tests, by file and name (every parameter of one)
 SLOW_TESTS = {

@@ -61,3 +61,49 @@ def collinear_cracks(b: float, c: float) -> tuple[float, float]:
     k_inner = (p2 - b * b) * np.sqrt(np.pi / (b * (c * c - b * b)))
     k_outer = (c * c - p2) * np.sqrt(np.pi / (c * (c * c - b * b)))
     return k_inner, k_outer
+
+
+class KGDToughness:
+    """The toughness-dominated KGD fracture (plane strain, zero viscosity: one
+    pressure along the crack): a straight crack of half-length l under a
+    confining stress s0 (compression > 0) fed at the rate Q (m^3/s per m).
+
+    Sneddon's opening of a crack under the net pressure p - s0 in an infinite
+    plate, w(x) = 4 (p - s0) / E' sqrt(l^2 - x^2), holds the volume
+    2 pi (p - s0) l^2 / E' (Tada, Paris & Irwin, 5.1); with a residual
+    aperture w_r along its pre-existing length 2 l0 (the grown part, a fresh
+    crack, holds none) the crack holds
+        V(p, l) = 2 pi (p - s0)+ l^2 / E' + 2 w_r l0.
+    Once growing, KI = (p - s0) sqrt(pi l) = KIc:
+        p(l) = s0 + KIc / sqrt(pi l),   V(l) = 2 sqrt(pi) KIc l^1.5 / E' + 2 w_r l0.
+    The fluid (counted at the density of p0, rho = rho0 exp(c (p - p0))):
+        exp(c (p(l) - p0)) V(l) = V0 + Q t,   V0 = V(p0, l0),
+    so the time at which the crack reaches half-length l is explicit,
+        t(l) = (exp(c (p(l) - p0)) V(l) - V0) / Q,
+    and l(t) its inverse (t(l) increases with l here). Without compressibility
+    and residual aperture, l(t) = [E' Q t / (2 sqrt(pi) KIc)]^(2/3) from
+    l = 0 (the issue's form)."""
+
+    def __init__(self, Ep, KIc, Q, l0, s0=0.0, c=0.0, p0=0.0, w_r=0.0):
+        self.Ep, self.KIc, self.Q, self.l0, self.s0, self.c, self.p0, self.w_r = Ep, KIc, Q, l0, s0, c, p0, w_r
+
+    def pressure(self, l):
+        return self.s0 + self.KIc / np.sqrt(np.pi * l)
+
+    def volume(self, p, l):
+        return 2 * np.pi * max(p - self.s0, 0.0) * l * l / self.Ep + 2 * self.w_r * self.l0
+
+    def fluid(self, p, l):
+        return np.exp(self.c * (p - self.p0)) * self.volume(p, l)
+
+    def time(self, l):
+        return (self.fluid(self.pressure(l), l) - self.fluid(self.p0, self.l0)) / self.Q
+
+    def length(self, t):
+        from scipy.optimize import brentq
+
+        lo = 0.5 * self.l0   # a discrete crack at l0 may reach KIc a little before t(l0)
+        hi = 2 * self.l0
+        while self.time(hi) < t:
+            hi *= 2
+        return brentq(lambda l: self.time(l) - t, lo, hi, xtol=1e-15 * hi, rtol=1e-15)

@@ -12,6 +12,7 @@ cases stays fast.
 """
 import os as _os
 
+from .errors import CaseError, ComputationError, FolderError
 from .version import __version__
 
 # A process no launcher started is an MPI singleton, for which Open MPI's
@@ -25,13 +26,12 @@ __all__ = ["Case", "CaseError", "ComputationError", "FolderError", "sif", "run",
 
 
 def __getattr__(name):
+    """Case, sif, run and plot load on first use: `import wingcrack.cli` (every
+    command, `--version` too) must not pay for numpy, the mesher and the API."""
     if name == "Case":
-        from .case import Case
+        from .case import Case  # numpy, scipy, meshing: on first use
         return Case
-    if name in ("CaseError", "ComputationError", "FolderError"):
-        from . import errors
-        return getattr(errors, name)
     if name in ("sif", "run", "plot"):
-        from . import api
+        from . import api  # the whole pipeline: on first use
         return getattr(api, name)
     raise AttributeError(f"module 'wingcrack' has no attribute {name!r}")

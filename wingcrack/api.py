@@ -15,7 +15,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import drawing, interrupt, step
-from .io.plotting import check_folder_name, plot   # plot: the public `wingcrack.plot`, one function
+from .io import outdir
+from .io.outdir import check_folder_name
+from .io.plotting import plot   # plot: the public `wingcrack.plot`, one function
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -56,30 +58,11 @@ def _require_case(case) -> None:
                         "wingcrack.Case.from_toml(path) or wingcrack.Case.from_dict(table))")
 
 
-def _prepare_out(out, force: bool = False) -> Path:
-    """io.outdir.prepare on rank 0; every rank raises its FolderError."""
-    from mpi4py import MPI
-
-    from .errors import FolderError
-    from .io.outdir import prepare
-
-    comm = MPI.COMM_WORLD
-    problem = None
-    if comm.rank == 0:
-        try:
-            with interrupt.deferred():   # the previous result goes whole, never half of it
-                prepare(out, force)
-        except FolderError as err:
-            problem = (err.path, err.reason)
-    problem = comm.bcast(problem, root=0)
-    if problem is not None:
-        raise FolderError(*problem)
-    return Path(out)
-
-
 def sif(case, out=None, force: bool = False) -> SifResult:
     """One solve of the initial geometry at load factor 1 (with contact on
-    non-open faces) and the SIFs of every tip: step 0 of a run.
+    non-open faces) and the SIFs of every tip: step 0 of a run. With a pump
+    (load = "injection"), the state at t = 0: the injected network at its
+    initial pressure, every other load as given.
 
     With `out`, writes the layout of a one-step run there: summary.json,
     step_0000.vtu (displacement, stress), faces_0000.vtu (opening, slip,
@@ -109,7 +92,8 @@ def _sif(case, out, force) -> SifResult:
     from .propagation.fracture_set import FractureSet
 
     if out is not None:
-        out = _prepare_out(out, force)
+        out = outdir.prepare_for_result(out, force)
+    case = case.at_start()   # with a pump: t = 0, the network at its initial pressure
     writes = out is not None and MPI.COMM_WORLD.rank == 0
     pieces = FractureSet.from_case(case).summary()
 
@@ -200,18 +184,10 @@ def run(case, out=None, progress=None, plots: bool = True, force: bool = False, 
 def _folder_lock(folder, create: bool):
     """The lock of the result folder (io.outdir.locked, re-entrant: the
     command line holds it already) for a whole sif or run called from
-    Python (collective under MPI, as they are), so that a second one into the same folder, from another
+    Python, so that a second one into the same folder, from another
     process, is refused (FolderError "is in use") instead of mixing its
     files with the first's. Nothing without a folder."""
-    import contextlib
-
-    if folder is None:
-        return contextlib.nullcontext()
-    from mpi4py import MPI
-
-    from .io.outdir import locked
-
-    return locked(folder, create=create, comm=MPI.COMM_WORLD)
+    return contextlib.nullcontext() if folder is None else outdir.locked(folder, create=create)
 
 
 def _run(case, out, progress, plots, force, resume):
@@ -222,37 +198,16 @@ def _run(case, out, progress, plots, force, resume):
 
     if resume:
         from .errors import FolderError
-        from .io.outdir import check_writable, leftovers
         from .propagation import checkpoint
 
-        if out is None:
-            raise FolderError(Path("."), "--resume needs the output folder of the run (-o)")
-        if not Path(out).is_dir():
-            raise FolderError(Path(out), "does not exist: nothing to resume")
-        check_writable(out)
-        for p in leftovers(out):   # what a run stopped while the folder refused removals left
-            p.unlink(missing_ok=True)
+        out = outdir.open_to_resume(out)
         try:
             state = checkpoint.load(out, case)
         except ValueError as err:
-            raise FolderError(Path(out), _no_checkpoint(out) or str(err)) from None
-        out = Path(out)
-        done, asked = len(state["steps"]), case.propagation.steps
-        # fewer: resumed, it would end at once and call `asked` steps "finished" with `done` of them (as many:
-        # it finishes what a stop left, the pictures and the final status)
-        if asked < done:
-            raise FolderError(out, f"holds {done} finished step{'' if done == 1 else 's'}, more than the case's "
-                                   f"propagation.steps = {asked}: nothing to resume; ask for more steps to go on")
-        from .io.outdir import faces_name, fields_name
-
-        # the finished steps' files: without one, the resumed result would have a hole
-        for k in range(len(state["steps"])):
-            for name in (fields_name(k), faces_name(k)):
-                if not (out / name).is_file():
-                    raise FolderError(out, f"{name} of finished step {k} is missing: the result cannot be "
-                                           "completed; start the run again without --resume (with --force)")
+            raise FolderError(out, outdir.no_checkpoint(out) or str(err)) from None
+        outdir.check_resumable(out, len(state["steps"]), case.propagation.steps)
     elif out is not None:
-        out = _prepare_out(out, force)
+        out = outdir.prepare_for_result(out, force)
     draw = out is not None and MPI.COMM_WORLD.rank == 0
     pictures = {}
 
@@ -277,25 +232,6 @@ def _run(case, out, progress, plots, force, resume):
         raise
     result.files.update(pictures)
     return result
-
-
-def _no_checkpoint(out) -> str | None:
-    """Why a folder that holds a result but no checkpoint cannot be resumed:
-    its run ended before committing a step (a step that stops the run is
-    recorded, not checkpointed). None when that is not the case."""
-    import json
-
-    from .io.outdir import CHECKPOINT, SUMMARY
-
-    if (Path(out) / CHECKPOINT).exists():
-        return None
-    try:
-        status = json.loads((Path(out) / SUMMARY).read_text())["status"]
-    except Exception:  # noqa: BLE001 - no readable summary: the generic message
-        return None
-    return (f"holds a result (\"{status}\") without checkpoint.npz: no step of a run was committed there (a `sif` "
-            "result, or a run that stopped in its first step), so nothing to resume; run it again without --resume "
-            "(with --force)")
 
 
 def _pictures(out, summary: dict, history: bool, animation: bool, files: dict) -> list:

@@ -11,7 +11,7 @@ import re
 import sys
 from pathlib import Path
 
-from wingcrack.case import DESCRIPTION, POINT, REQUIRED, SHAPE_KEYS, STRING, Key, Range, Ref
+from wingcrack.case import DESCRIPTION, NUMBERS, POINT, REQUIRED, SHAPE_KEYS, STRING, Key, Range, Ref
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "case-format.md"
 _BLOCK = re.compile(r"(<!-- keys: (\w+) -->\n).*?(<!-- end keys -->)", re.S)
@@ -64,14 +64,14 @@ def _allowed(k: Key) -> str:
     if k.choices:
         parts.append(" | ".join(f'`"{c}"`' for c in k.choices))
     if k.range is not None:
-        parts.append(("each " if k.type == POINT else "") + _range(k.range, k.name))
+        parts.append(("each " if k.type in (POINT, NUMBERS) else "") + _range(k.range, k.name))
     if k.min_points:
         parts.append(f"at least {k.min_points} points")
     if k.only_with is not None:
         parts.append(f'other than the default only with `{k.only_with[0]} = "{k.only_with[1]}"`')
     if k.limit is not None:
         unit = f" {k.unit}" if k.unit and not k.limit.of else ""
-        each = "each " if k.type == POINT else ""
+        each = "each " if k.type in (POINT, NUMBERS) else ""
         parts.append(f"{each}{_limit(k)}{unit} ({k.limit.why}) **R**")
     if k.rule:
         parts.append(f"{k.rule} **R**")

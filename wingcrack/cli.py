@@ -13,7 +13,6 @@ and prints.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import traceback
 from pathlib import Path
@@ -70,23 +69,6 @@ def _parser() -> argparse.ArgumentParser:
     x.add_argument("--tol", type=_positive, default=None, metavar="TOL",
                    help="largest relative difference of displacements and SIFs accepted (default 1e-6)")
     return p
-
-
-def _out_path(text: str) -> Path:
-    """The -o folder, or plot's (checked here, not by argparse, whose errors
-    are not one line), as a Path; FolderError for a name that is empty or
-    only blanks (Path("") is the current folder: results would land among
-    whatever is there) or that the system refuses outright."""
-    if not text.strip():
-        raise FolderError(repr(str(text)), "an empty folder name (it would mean the current folder; "
-                          "say . for that)")
-    try:
-        os.stat(text)
-    except (FileNotFoundError, NotADirectoryError):
-        pass   # a new folder, or one below a file: prepare() says which
-    except OSError as err:   # a name too long, a symlink loop: no file operation on it can work
-        raise FolderError(text, f"cannot use the path ({err.strerror or err})") from None
-    return Path(text)
 
 
 def _positive(text: str) -> float:
@@ -150,33 +132,22 @@ def _stopped(err: BaseException, args=None) -> int:
     keeps for --resume (those its checkpoint holds)."""
     kept = None
     if args is not None and args.command == "run" and getattr(args, "out", None) is not None:
-        kept = _resumable_steps(Path(args.out))
+        from wingcrack.io.outdir import resumable_steps   # numpy's import: not for --help or a usage error
+
+        kept = resumable_steps(Path(args.out))
     if world_rank() == 0:
         print(f"{PROG}: {interrupt.stop_line(err, kept)}", file=sys.stderr)
     return interrupt.exit_code(err)
 
 
-def _resumable_steps(out: Path) -> int:
-    """The finished steps of the run in `out` that --resume goes on from:
-    summary.json's, where the checkpoint exists (0 without one)."""
-    import json
-
-    from wingcrack.io.outdir import CHECKPOINT, SUMMARY
-
-    try:
-        if not (out / CHECKPOINT).is_file():
-            return 0
-        return len(json.loads((out / SUMMARY).read_text(encoding="utf-8"))["steps"])
-    except (OSError, ValueError, KeyError, TypeError):
-        return 0
-
-
 def _command(args) -> int:
+    from wingcrack.io.outdir import folder_path, locked   # numpy's import: not for --help or a usage error
+
     if getattr(args, "out", None) is not None:
-        args.out = _out_path(args.out)
+        args.out = folder_path(args.out)
     if args.command == "plot":
-        args.folder = _out_path(args.folder)
-        with _locked(args.folder, create=False):
+        args.folder = folder_path(args.folder)
+        with locked(args.folder, create=False):
             return _plot(args)
     from wingcrack.case import Case
 
@@ -189,7 +160,7 @@ def _command(args) -> int:
         return _crosscheck(case, args)
     from wingcrack import api  # DOLFINx is imported only for sif/run
 
-    with _locked(args.out, create=not getattr(args, "resume", False)):
+    with locked(args.out, create=not getattr(args, "resume", False)):
         if args.command == "run":
             with _progress(case, args.quiet) as progress:
                 result = api.run(case, args.out, progress=progress, plots=args.plots, force=args.force,
@@ -204,21 +175,6 @@ def _command(args) -> int:
         for warning in result.summary.get("warnings", []):   # each once: summary.json keeps them
             print(f"{PROG}: warning: {warning}", file=sys.stderr)
     return EXIT_OK
-
-
-def _locked(folder, create: bool):
-    """The folder's lock for the whole command (io.outdir.locked): a second
-    wingcrack command on the same folder is refused. Under a launcher
-    (mpirun, srun) rank 0 holds it and tells the others."""
-    from wingcrack.io.outdir import locked
-
-    comm = None
-    if os.environ.get("OMPI_COMM_WORLD_SIZE") or os.environ.get("PMI_SIZE") or os.environ.get("PMIX_RANK") \
-            or "mpi4py.MPI" in sys.modules:
-        from mpi4py import MPI
-
-        comm = MPI.COMM_WORLD
-    return locked(folder, create=create, comm=comm)
 
 
 def _names(files: dict) -> str:
@@ -346,15 +302,31 @@ def describe(case) -> str:
     )
     load = {"scale": f"load scaled (at most x{_g(pr.max_load_factor)})",
             "pressure": f"fracture pressures scaled (injection, at most x{_g(pr.max_load_factor)})",
-            "fixed": "load fixed"}[pr.load]
+            "fixed": "load fixed", "injection": "driven by the pump below (every other load fixed)"}[pr.load]
     if any(f.pressure for f in case.fractures):
         load += ", connected fractures share their pressure" if pr.connect_pressure else \
             ", each fracture keeps its own pressure"
     lines.append(
         f"propagation: at most {pr.steps} steps of at most {_g(pr.length)} m, alpha {_g(pr.alpha)}, {load}"
     )
+    if case.injection is not None:
+        lines += _injection_text(case)
     lines.append("ok: the case is valid")
     return "\n".join(lines)
+
+
+def _injection_text(case) -> list:
+    """`check`'s lines on the pump: where, the schedule, the fluid."""
+    from wingcrack.propagation.schedule import Schedule
+
+    inj = case.injection
+    at = inj.point if inj.point is not None else case.fractures[inj.fracture].midpoint
+    joins = "the fractures its wings join enter the network" if case.propagation.connect_pressure else \
+        "its wings' joins do not connect it (connect_pressure = false)"
+    return [f"injection: into fracture {inj.fracture} at {_pt(at)}; {joins}",
+            f"  schedule: {Schedule.of(inj).describe()}",
+            f"  fluid: compressibility {_g(inj.compressibility)} 1/Pa, initial pressure {_g(inj.initial_pressure)} "
+            f"Pa, residual aperture {_g(inj.residual_aperture)} m"]
 
 
 def _domain_text(case) -> str:

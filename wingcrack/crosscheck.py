@@ -46,11 +46,19 @@ basix's (the 6-point Strang-Fix triangle rule, 5-point Gauss-Legendre).
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
+import wingcrack_kernels as kernels
+from scipy.sparse.linalg import MatrixRankWarning, spsolve
+from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, FacetBasis, LinearForm, MeshTri2
+from skfem.helpers import ddot, div, dot, sym_grad
+from skfem.mapping import MappingIsoparametric
 
 from .errors import ComputationError
+from .fem.nodal import nodal_displacements
+from .step import FAILURES, Timer, failure, solve_initial
 
 #: Quadrature orders: those DOLFINx picks for wingcrack's forms (see above).
 CELL_ORDER = 4
@@ -172,10 +180,10 @@ def applied_loads(case, load_factor: float, pressures) -> list:
 
 
 def lame(E: float, nu: float, plane: str) -> tuple[float, float]:
-    """In-plane (lambda, mu) in Pa; plane stress: lambda = E nu / (1 - nu^2)."""
-    mu = E / (2.0 * (1.0 + nu))
-    lam = E * nu / (1.0 - nu * nu) if plane == "stress" else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-    return lam, mu
+    """In-plane Lame constants (lambda, mu) in Pa; plane stress: lambda = E nu / (1 - nu^2)."""
+    lame_mu = E / (2.0 * (1.0 + nu))
+    lame_lambda = E * nu / (1.0 - nu * nu) if plane == "stress" else E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    return lame_lambda, lame_mu
 
 
 class SkfemProblem:
@@ -186,8 +194,6 @@ class SkfemProblem:
     (0: x, 1: y) of CrackMesh node `node`."""
 
     def __init__(self, case, cm, pressures=None, load_factor: float = 1.0):
-        from skfem import Basis, ElementTriP2, ElementVector, FacetBasis, MeshTri2
-
         self.case, self.cm = case, cm
         self.pressures = np.asarray([f.pressure for f in case.fractures] if pressures is None else pressures,
                                     dtype=np.float64).reshape(-1)
@@ -269,18 +275,15 @@ class SkfemProblem:
     # -- assembly -------------------------------------------------------------
     def assemble(self):
         """(K, f, prescribed dofs, their values), K sparse CSR (N/m^2 per m)."""
-        from skfem import BilinearForm, LinearForm
-        from skfem.helpers import ddot, div, dot, sym_grad
-
         case, cm = self.case, self.cm
         b, q = factors(case, self.load_factor)
-        lam, mu = lame(case.material.E, case.material.nu, case.material.plane)
+        lame_lambda, lame_mu = lame(case.material.E, case.material.nu, case.material.plane)
         sigma0 = np.asarray(case.stress.tensor(), float)[:, :, None, None]
         rho_g = case.material.density * np.asarray(case.body.gravity, float)[:, None, None]
 
         @BilinearForm
         def stiffness(u, v, w):
-            return lam * div(u) * div(v) + 2.0 * mu * ddot(sym_grad(u), sym_grad(v))
+            return lame_lambda * div(u) * div(v) + 2.0 * lame_mu * ddot(sym_grad(u), sym_grad(v))
 
         @LinearForm
         def volume(v, w):
@@ -325,10 +328,6 @@ class SkfemProblem:
 
     def solve(self) -> np.ndarray:
         """(nodes, 2) displacement (m) at every CrackMesh node."""
-        import warnings
-
-        from scipy.sparse.linalg import MatrixRankWarning, spsolve
-
         K, f, D, values = self.assemble()
         free = np.setdiff1d(np.arange(self.ndofs), D)
         u = np.zeros(self.ndofs)
@@ -348,17 +347,15 @@ class SkfemProblem:
 def correlation_sifs(cm, u: np.ndarray, E: float, nu: float, plane: str):
     """(KI, KII) of every tip of `cm` by displacement correlation on the nodal
     displacement `u` (nodes, 2)."""
-    import wingcrack_kernels as K
-
     tips = cm.tips
     if not tips:
         return np.zeros(0), np.zeros(0)
     nodes = np.array([[t.upper[0], t.upper[1], t.lower[0], t.lower[1]] for t in tips], dtype=np.int64)
     q = u[nodes]
-    KI, KII = K.displacement_correlation(
+    KI, KII = kernels.displacement_correlation(
         q[:, 0], q[:, 1], q[:, 2], q[:, 3], np.array([t.ex for t in tips], float),
         np.array([t.ey for t in tips], float), np.array([t.h for t in tips], float),
-        E / (2 * (1 + nu)), K.kappa(nu, plane))
+        E / (2 * (1 + nu)), kernels.kappa(nu, plane))
     return np.atleast_1d(KI), np.atleast_1d(KII)
 
 
@@ -366,10 +363,7 @@ def crosscheck(case, load_factor: float = 1.0) -> CrossCheck:
     """Solve `case` with open faces by wingcrack and by scikit-fem on the
     same mesh at `load_factor` (1: what `sif` solves); compare displacements
     and displacement-correlation SIFs."""
-    from .fem.nodal import nodal_displacements
-    from .step import FAILURES, Timer, failure, solve_initial
-
-    case, opened = open_faces(case)
+    case, opened = open_faces(case.at_start())   # with a pump: t = 0, what `sif` solves
     timer = Timer()
     try:
         sol = solve_initial(case, timer, load_factor=load_factor)
@@ -407,8 +401,6 @@ def crosscheck(case, load_factor: float = 1.0) -> CrossCheck:
 
 def _facet_mapping(mesh):
     """The mesh's isoparametric map with the inverse's Newton stop NEWTON_TOL."""
-    from skfem.mapping import MappingIsoparametric
-
     class Mapping(MappingIsoparametric):
         def invF(self, x, tind=None, newton_max_iters=50, newton_tol=NEWTON_TOL):
             return super().invF(x, tind=tind, newton_max_iters=newton_max_iters, newton_tol=newton_tol)

@@ -11,10 +11,10 @@ equilibrium as a condition on the contact forces.
   as many dofs of the piece as it has free modes, chosen where those modes
   are independent (away from the faces); the gauged stiffness K_g is then
   regular and K_g^-1 is a generalised inverse of K.
-- The solution: u = K_g^-1 (f + B mu) + R alpha, with the pair forces mu
+- The solution: u = K_g^-1 (f + B forces) + R alpha, with the pair forces
   and the rigid amplitudes alpha from the contact problem, whose jumps are
-  jump0 + S mu + G alpha (G = B^T R) and whose equilibrium is
-  R^T (f + B mu) = 0, i.e. G^T mu + e = 0 with e = R^T f (contact.friction,
+  jump0 + S forces + G alpha (G = B^T R) and whose equilibrium is
+  R^T (f + B forces) = 0, i.e. G^T forces + e = 0 with e = R^T f (contact.friction,
   Rigid). Where no admissible contact force meets it, the piece is a
   mechanism (contact.friction.Mechanism) and describe() names its motion.
 

@@ -18,6 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 #: singular values of the (scaled) constrained rigid modes below this times
 #: the largest are zero: well-held pieces give >= ~1e-4 (two constrained
@@ -38,9 +40,6 @@ class FreePiece:
 def free_pieces(cm, loads) -> list[FreePiece]:
     """Every connected piece of `cm` whose displacement conditions (loads:
     wingcrack.loads.Loads) leave a rigid-body mode free."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     x = np.asarray(cm.x, dtype=np.float64)
     cells = np.asarray(cm.cells, dtype=np.int64)
     n = len(x)

@@ -10,16 +10,16 @@ from wingcrack_kernels import kappa  # noqa: F401
 
 
 def lame(E: float, nu: float, plane: str) -> tuple[float, float]:
-    """In-plane Lame constants (lambda, mu) in Pa.
+    """In-plane Lame constants (lambda, mu) in Pa: mu the shear modulus.
 
     Plane stress replaces lambda by 2 mu lambda / (lambda + 2 mu), so that the
     same 2D formula sigma = lambda tr(eps) I + 2 mu eps serves both cases.
     """
-    mu = E / (2.0 * (1.0 + nu))
-    lam = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    lame_mu = E / (2.0 * (1.0 + nu))
+    lame_lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
     if plane == "stress":
-        lam = 2.0 * mu * lam / (lam + 2.0 * mu)
-    return lam, mu
+        lame_lambda = 2.0 * lame_mu * lame_lambda / (lame_lambda + 2.0 * lame_mu)
+    return lame_lambda, lame_mu
 
 
 def e_prime(E: float, nu: float, plane: str) -> float:
@@ -31,6 +31,6 @@ def e_prime(E: float, nu: float, plane: str) -> float:
 
 def in_plane_strain(sigma: np.ndarray, E: float, nu: float, plane: str) -> np.ndarray:
     """Strain (2x2) of a 2x2 in-plane stress under the same constitutive law."""
-    lam, mu = lame(E, nu, plane)
-    tr = np.trace(sigma) / (2.0 * lam + 2.0 * mu)
-    return (sigma - lam * tr * np.eye(2)) / (2.0 * mu)
+    lame_lambda, lame_mu = lame(E, nu, plane)
+    tr = np.trace(sigma) / (2.0 * lame_lambda + 2.0 * lame_mu)
+    return (sigma - lame_lambda * tr * np.eye(2)) / (2.0 * lame_mu)

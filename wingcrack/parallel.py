@@ -1,7 +1,8 @@
-"""Running under mpirun/srun: which rank this process is, doing a piece of
-work on rank 0 only with every rank getting its result (or its error), now
-(on_root) or begun now and collected later (RootPending), and
-rounding what gmsh is given so that any number of ranks meshes alike."""
+"""Running under mpirun/srun: which rank this process is and whether a
+launcher started it, doing a piece of work on rank 0 only with every rank
+getting its result (or its error), now (on_root) or begun now and collected
+later (RootPending), and rounding what gmsh is given so that any number of
+ranks meshes alike."""
 from __future__ import annotations
 
 import os
@@ -23,10 +24,18 @@ def world_rank() -> int:
     return 0
 
 
+def launched() -> bool:
+    """Whether this process is one rank of a launcher's (mpirun, srun: its
+    environment names its rank, as world_rank reads it) or has started MPI
+    already: then work on a shared folder is collective (rank 0 does it,
+    every rank hears the outcome); a serial command never starts MPI for it."""
+    return "mpi4py.MPI" in sys.modules or any(os.environ.get(name, "").isdigit() for name in _RANK_VARIABLES)
+
+
 def on_root(make):
     """make() on rank 0 (gmsh meshes there only), its result, or the error it
     raised, broadcast to every rank: all ranks go on, or all raise."""
-    from mpi4py import MPI
+    from mpi4py import MPI  # here: its import starts MPI, which `check` and world_rank never do
 
     comm = MPI.COMM_WORLD
     if comm.size == 1:
@@ -54,7 +63,7 @@ class RootPending:
     in the next collective call forever)."""
 
     def __init__(self, start):
-        from mpi4py import MPI
+        from mpi4py import MPI  # here: its import starts MPI (see on_root)
 
         self._pending, self._error = None, None
         if MPI.COMM_WORLD.rank == 0:

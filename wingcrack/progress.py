@@ -10,6 +10,8 @@ import sys
 import threading
 import time
 
+from . import parallel
+
 #: a step running longer than this (s) says what it is doing (WINGCRACK_SLOW_STEP overrides it: the tests)
 SLOW_STEP = float(os.environ.get("WINGCRACK_SLOW_STEP", "5"))
 _NOW = {"step": None, "since": None, "what": None}
@@ -49,15 +51,13 @@ class ProgressBar:
         self.bar = None
 
     def __enter__(self):
-        from .parallel import world_rank
-
         self._stop = threading.Event()
         self._watch = None
-        if self.show is not False and world_rank() == 0:   # one bar under mpirun
+        if self.show is not False and parallel.world_rank() == 0:   # one bar under mpirun
             if self.show:
-                from tqdm.auto import tqdm   # a widget in notebooks, text elsewhere
+                from tqdm.auto import tqdm   # a widget in notebooks, text elsewhere; here: `check` loads no tqdm
             else:
-                from tqdm import tqdm
+                from tqdm import tqdm   # here: `check` imports this module, never a bar
             self.bar = tqdm(total=self.total, unit="step", file=sys.stderr, dynamic_ncols=True,
                             disable=None if self.show is None else False)
             self._last = ""
@@ -97,8 +97,9 @@ def progress_text(step: dict) -> str:
     secs = {p: v for p, v in step.get("seconds", {}).items() if p != "total"}
     slow = max(secs, key=secs.get) if secs else None
     slowest = f"slowest {slow} {secs[slow]:.2f} s" if slow else "slowest -"
-    return (f"load {step['load_factor']:.4g}, {step['dofs']} DOFs, "
-            f"{step['contact']['closed']} closed pairs, {slowest}")
+    load = f"load {step['load_factor']:.4g}" if "time" not in step else \
+        f"t {step['time']:.4g} s, p {step['injection']['pressure'] / 1e6:.4g} MPa"
+    return f"{load}, {step['dofs']} DOFs, {step['contact']['closed']} closed pairs, {slowest}"
 
 
 class Heartbeat:
@@ -111,9 +112,7 @@ class Heartbeat:
         self._thread = None
 
     def __enter__(self):
-        from .parallel import world_rank
-
-        if not self.quiet and world_rank() == 0:
+        if not self.quiet and parallel.world_rank() == 0:
             self._thread = threading.Thread(target=self._beat, daemon=True)
             self._thread.start()
         return self

@@ -120,6 +120,12 @@ class StepRecord:
     #: the load factor at which this step's first growing tip reaches KIc (None where not known: a fixed
     #: load, or a path-dependent response held above it); below load_factor once the held load has peaked
     critical_load_factor: float | None = None
+    #: with a pump (load = "injection"): the step's time (s), its injection {injected, stored, leaked,
+    #: pressure, volume, held, unstable, partly_filled, history} and its networks [{fractures, pressure,
+    #: volume, length}] (propagation.injection.step_record); None otherwise
+    time: float | None = None
+    injection: dict | None = None
+    networks: list | None = None
 
     def to_dict(self) -> dict:
         out = {"step": self.step, "load_factor": self.load_factor, "dofs": self.dofs, "cells": self.cells,
@@ -127,6 +133,8 @@ class StepRecord:
                "seconds": dict(self.seconds), "mesh": dict(self.mesh), "solves": self.solves}
         if self.critical_load_factor is not None:
             out["critical_load_factor"] = float(self.critical_load_factor)
+        if self.time is not None:
+            out.update(time=float(self.time), injection=dict(self.injection), networks=list(self.networks))
         if self.pressures:
             out["pressures"] = [float(p) for p in self.pressures]
         if self.warnings:
@@ -141,7 +149,8 @@ class StepRecord:
                           state=t.get("state", "arrested")) for t in d["tips"]]
         return cls(d["step"], d["load_factor"], d["dofs"], d["cells"], tips, contact, dict(d["seconds"]),
                    dict(d.get("mesh", {})), d.get("solves", 1), list(d.get("warnings", [])),
-                   [float(p) for p in d.get("pressures", [])], d.get("critical_load_factor"))
+                   [float(p) for p in d.get("pressures", [])], d.get("critical_load_factor"), d.get("time"),
+                   d.get("injection"), d.get("networks"))
 
 
 @dataclass
@@ -171,11 +180,19 @@ class Summary:
 def tip_rows(steps) -> list[dict]:
     """One plain dict per (step, tip): the step's number, load factor, DOFs,
     and the tip's values (KI, KII: displacement correlation; KI_M, KII_M:
-    interaction integral, None where it had no room; theta in rad)."""
+    interaction integral, None where it had no room; theta in rad). With a
+    pump also the step's time (s) and injected volume (m^3/m), and the
+    pressure (Pa), volume (m^3/m) and number of the network of the tip's
+    fracture (its index in the step's networks)."""
     rows = []
     for s in steps:
+        where = {f: n for n, net in enumerate(s.get("networks") or []) for f in net["fractures"]}
         for t in s["tips"]:
             row = {"step": s["step"], "load_factor": s["load_factor"], "dofs": s["dofs"]}
+            if "time" in s:
+                net = s["networks"][where[t["fracture"]]]
+                row.update(time=s["time"], injected=s["injection"]["injected"], network=where[t["fracture"]],
+                           network_pressure=net["pressure"], network_volume=net["volume"])
             row.update({k: t.get(k) for k in TIP_COLUMNS + ("state", "advance") if k in t})
             rows.append(row)
     return rows
@@ -184,7 +201,7 @@ def tip_rows(steps) -> list[dict]:
 def dataframe(rows):
     """A pandas DataFrame of `rows` (pandas is optional: ImportError says so)."""
     try:
-        import pandas as pd
+        import pandas as pd  # optional: not a dependency of wingcrack
     except ImportError:
         raise ImportError("to_dataframe() needs pandas (pip install pandas); the same rows as plain dicts: "
                           "wingcrack.results.tip_rows(result.summary['steps'])") from None

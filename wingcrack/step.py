@@ -16,7 +16,7 @@ status "failed: step <k>: <reason>", the same for both commands.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +24,7 @@ import numpy as np
 import wingcrack_kernels as K
 from meshing import mesher, start_worker
 from . import progress
-from .contact.constraints import constraint_rows
+from .contact.constraints import constraint_rows, pre_existing_pairs
 from .errors import ComputationError, WriteError
 from .fem.nodal import nodal_displacements
 from .floating import Floating
@@ -32,8 +32,8 @@ from .free_pieces import describe, free_pieces
 from .io.faces import SLIP, STICK, write_faces
 from .io.fields import write_field_arrays
 from .io.outdir import FACES_PVD, FIELDS_PVD, SUMMARY, faces_name, fields_name
-from .io.pvd import write_pvd
-from .loads import case_loads
+from .io.pvd import increasing, write_pvd
+from .loads import case_loads, opening_functionals
 from .parallel import RootPending, on_root, world_rank
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
 from .version import __version__
@@ -88,12 +88,18 @@ class Discretisation:
     elastic problem (fem.elasticity.ElasticProblem, assembled and
     factorised); contact, its contact problem (fem.contact_problem);
     pressures, the fluid pressure of every fracture it was built from, at
-    load factor 1 (their indices are cm.pair_fracture's)."""
+    load factor 1 (their indices are cm.pair_fracture's); network, with
+    load = "injection", the injected network's fractures, whose pressure
+    is the load factor."""
     cm: object
     problem: object
     contact: object
     pressures: np.ndarray = None   # (n_fractures,) the fractures' given pressures (Pa, factor 1)
     far: object = None   # the far field's factorisation it used (fem.far_field.FarField), or None
+    network: np.ndarray = None   # (n_fractures,) bool, load = "injection" only
+    solved_at: float | None = None   # the load factor of the last solve
+    residual: np.ndarray = None   # (p,) each pair's residual aperture (m; a pumped case's pre-existing faces)
+    _openings: object = field(default=None, repr=False)
 
     @property
     def dofs(self) -> int:
@@ -107,7 +113,18 @@ class Discretisation:
         """Displacement at `load_factor`, with contact (the active set) on the
         faces that have it, friction as one increment from the reference slip
         (see accept); the contact result (None without rows)."""
+        self.solved_at = float(load_factor)
         return self.contact.solve(load_factor)
+
+    def solution_at(self, load_factor: float):
+        """The solution at `load_factor`: the last solve's where it was at
+        this load factor, else a new solve (the contact result). The same:
+        nothing but a solve changes the state a solve starts from, or
+        accept(), which takes the last solve's own solution, whose increment
+        to the same load is none."""
+        if self.solved_at != float(load_factor):
+            return self.solve(load_factor)
+        return self.contact.result
 
     def accept(self) -> None:
         """The current solution becomes the converged state the next solve
@@ -151,22 +168,35 @@ class Discretisation:
         """(n_nodes, 2) the forces on the face nodes at the current solution,
         contact and fluid pressure (the interaction integral's crack-face
         term), or None when the faces carry none."""
-        loads = self.problem.loads
         out = None
         if self.contact.result is not None:
             out = self.contact.nodal_forces(len(self.cm.x))
-        if loads.face_forces is not None and np.any(loads.face_forces):
-            p = loads.pressure_factor(self.problem.load_factor_solved) * loads.face_forces
+        p = self.problem.loads.face_forces_at(self.problem.load_factor_solved)
+        if p is not None:
             out = p if out is None else out + p
         return out
 
     def pressure_at(self, load_factor: float) -> np.ndarray:
         """(n_fractures,) the fluid pressure of each fracture at `load_factor`
-        (Pa; the given pressures times the factor that multiplies them)."""
+        (Pa; the given pressures times the factor that multiplies them; with
+        load = "injection" the factor itself on the injected network)."""
         if self.pressures is None:   # built without them: dry fractures
             n = int(np.max(self.cm.pair_fracture, initial=-1)) + 1 if len(self.cm.pairs) else 0
             return np.zeros(n)
+        if self.network is not None:
+            return np.where(self.network, float(load_factor), self.pressures)
         return self.pressures * self.problem.loads.pressure_factor(load_factor)
+
+    def openings(self) -> np.ndarray:
+        """(n_fractures,) the integral of the normal opening [u].n over each
+        fracture's faces, wings included, at the current solution (m^2 per
+        metre; loads.opening_functionals: the consistent P2 integral, the
+        pressure's work per unit pressure). Collective."""
+        if self._openings is None:
+            from .fem.nodal_functionals import NodalFunctionals   # the FE layer: loaded by a run's first step
+
+            self._openings = NodalFunctionals(self.problem, opening_functionals(self.cm, len(self.pressure_at(1.0))))
+        return self._openings.values()
 
     def driving_sifs(self, case, polylines):
         """(KI, KII) of every tip by the method that drives growth: displacement
@@ -193,13 +223,15 @@ class Discretisation:
         """The faces' values of every face-node pair, in cm.pairs order
         (io/faces.py writes them): {"jump": (p, 2) [u] = u(+) - u(-) (m),
         "normal_traction": (p,) t_n (Pa, <= 0 in contact; 0 without a normal
-        row), "tangential_traction": (p,) t_t = -mu_t / weight = t.sigma.n
+        row), "tangential_traction": (p,) t_t = -forces_t / weight = t.sigma.n
         (Pa, the shear stress on the face plane, signed as the slip it
         drives; 0 without a tangential row), "state" and "closed"
         (pair_states), "slip_increment": (p,) s - s_reference (m; 0 on
         non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
-        fracture at the solved load (Pa)}. Collective (the face displacements are
-        gathered)."""
+        fracture at the solved load (Pa), "aperture": (p,) the fluid's aperture
+        w + g + the residual aperture (m; w = [u].n, g the initial gap where a
+        normal row holds it, the residual aperture on pre-existing faces)}.
+        Collective (the face displacements are gathered)."""
         pairs = np.asarray(self.cm.pairs, dtype=np.int64).reshape(-1, 2)
         fm, u = self.problem.fm, self.problem.u
         jump = nodal_displacements(fm, u, pairs[:, 0]) - nodal_displacements(fm, u, pairs[:, 1])
@@ -215,8 +247,14 @@ class Discretisation:
             tangential_traction[c.rows.pair[~normal]] = t[~normal]
         pressure = self.pressure_at(self.problem.load_factor_solved)[np.asarray(self.cm.pair_fracture, np.int64)] \
             if len(pairs) else np.zeros(0)
+        gap = np.zeros(len(pairs))
+        normal = c.rows.normal
+        gap[c.rows.pair[normal]] = c.rows.gap[normal]
+        n = np.asarray(self.cm.pair_normal, float).reshape(-1, 2)
+        aperture = np.sum(jump * n, axis=1) + gap + (0.0 if self.residual is None else self.residual)
         return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
-                "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure}
+                "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure,
+                "aperture": aperture}
 
     def contact_record(self) -> ContactRecord:
         c = self.contact
@@ -330,7 +368,8 @@ def start_meshing(timeout: float | None = MESH_TIMEOUT) -> None:
 
 
 def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None = MESH_TIMEOUT,
-               history=None, mesh: MeshRequest | None = None, patch=None, far=None) -> Discretisation:
+               history=None, mesh: MeshRequest | None = None, patch=None, far=None,
+               network=None) -> Discretisation:
     """Mesh `fractures` (anything with .points: case Fracture or
     GrowingFracture) in the case's domain, with the bc points as nodes, in
     the meshing worker under `timeout` seconds; then the DOLFINx mesh, the
@@ -346,8 +385,12 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     (fem.far_field.FarField): reused when this mesh's far field is its, else
     (and when there is none) a new one is factorised where the mesh has a
     far field; the one used is Discretisation.far (the caller's to destroy
-    when it changes)."""
+    when it changes); network: with load = "injection", (n_fractures,) bool,
+    the injected network (its pressure is the load factor; default: the
+    injected fracture and those it meets, as at the start)."""
     polylines = [np.asarray(f.points, float) for f in fractures]
+    if case.propagation.load == "injection" and network is None:
+        network = case.network_at_start()
     if mesh is None:   # begun before the imports below, which then overlap gmsh
         mesh = start_mesh(case, fractures, sizes, timeout, patch)
     elif not mesh.is_for(polylines, sizes, patch):
@@ -369,7 +412,7 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     fm = to_dolfinx(cm)
     timer.lap("to_dolfinx")
     m = case.material
-    loads = case_loads(case, cm, fractures)
+    loads = case_loads(case, cm, fractures, network)
     rows = constraint_rows(cm, fractures)
     floating = floating_pieces(cm, loads, rows, free_pieces(cm, loads))
     saddle = len(rows) > DENSE_ROWS
@@ -402,7 +445,11 @@ def discretise(case, fractures, timer: Timer, sizes=None, timeout: float | None 
     if history is not None and contact.has_friction:
         contact.set_reference(history.at(cm, fractures))
     timer.lap("contact")
-    return Discretisation(cm, problem, contact, np.array([float(f.pressure) for f in fractures]), far)
+    residual = None
+    if case.injection is not None and case.injection.residual_aperture:
+        residual = case.injection.residual_aperture * pre_existing_pairs(cm, fractures)
+    return Discretisation(cm, problem, contact, np.array([float(f.law.pressure) for f in fractures]), far,
+                          network=None if network is None else np.asarray(network, bool), residual=residual)
 
 
 def floating_pieces(cm, loads, rows, pieces):
@@ -480,14 +527,14 @@ def sif_warnings(tips, KIc=None) -> list:
 
 
 def finish(out, k: int, load_factor: float, disc: Discretisation, tips: list, timer: Timer, solves: int = 1,
-           states=None, advances=None, KIc=None) -> StepRecord:
+           states=None, advances=None, KIc=None, times=None) -> StepRecord:
     """The record of solved step k (tip states and advances when it grew;
     "arrested" and 0 otherwise), its files written when there is an output
     folder `out`; the fractures' pressures at `load_factor`
     (Discretisation.pressure_at); its SIF warnings against the case's KIc
-    (sif_warnings)."""
+    (sif_warnings). times: the physical times of steps 0..k (s), or None."""
     if out is not None:
-        write_step_files(out, k, load_factor, disc)
+        write_step_files(out, k, load_factor, disc, times)
         timer.lap("output")
     states = states or ["arrested"] * len(tips)
     advances = advances or [0.0] * len(tips)
@@ -510,24 +557,29 @@ def require_finite(what: str, values) -> None:
                                "are beyond floating point")
 
 
-def write_step_files(out, k: int, load_factor: float, disc: Discretisation) -> None:
+def write_step_files(out, k: int, load_factor: float, disc: Discretisation, times=None) -> None:
     """step_XXXX.vtu and faces_XXXX.vtu of step k (with the step and its
-    load factor as field data), and the two ParaView indices over steps
-    0..k, rewritten so that an interrupted run keeps a complete index.
+    load factor as field data, and its time where `times`, the times of
+    steps 0..k, are given: then the ParaView indices' time axis), and the
+    two ParaView indices over steps 0..k, rewritten so that an interrupted
+    run keeps a complete index.
     Collective: the values are gathered first, then rank 0 writes, and a
     file it cannot write (WriteError) is raised on every rank (parallel.on_root:
     otherwise the others would wait for rank 0 in the next step)."""
 
     out = Path(out)
     about = {"step": k, "load_factor": load_factor}
+    axis = None if times is None else increasing(times)
+    if times is not None:
+        about["time"] = float(times[k])
     fields = disc.problem.nodal_fields(len(disc.cm.x), [t.node for t in disc.cm.tips])   # on rank 0
     faces = disc.face_values()
 
     def write():
         write_field_arrays(out / fields_name(k), disc.cm, fields, field_data=about)
         write_faces(out / faces_name(k), disc.cm, faces, field_data=about)
-        write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)])
-        write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)])
+        write_pvd(out / FIELDS_PVD, [fields_name(j) for j in range(k + 1)], axis)
+        write_pvd(out / FACES_PVD, [faces_name(j) for j in range(k + 1)], axis)
 
     on_root(write)
 

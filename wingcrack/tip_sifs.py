@@ -8,6 +8,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 import wingcrack_kernels as K
+from .contact.face_term import face_term
 from .fem.interaction_integral import InteractionIntegral
 from .fem.nodal import nodal_displacements
 from .material import kappa
@@ -43,9 +44,9 @@ def interaction_radius(tip, fractures, domain) -> float:
     the domain is the one layer of elements around the rosette (q = 1 on
     the ring, 0 on every vertex beyond R_OUT_ONE_LAYER h): the kink, at
     >= 1.33 h, is at most a vertex of that layer, so the crack inside it is
-    straight. Measured against displacement correlation on the 45-degree
-    disc's wings (70-degree kink): 0.2 % (KI) and 0.4 % of KI (KII); the full
-    annulus to 4 h gives 0.04 % on straight cracks."""
+    straight. Measured against displacement correlation on wings after a
+    70-degree kink: 0.2 % (KI) and 0.4 % of KI (KII); the full annulus to
+    4 h gives 0.04 % on straight cracks."""
     h = tip.h
     p = np.asarray(tip.x, float)
     others = min(R_OUT_ROSETTES * h, 0.8 * domain.distance_to_boundary(p))
@@ -70,15 +71,13 @@ def interaction_radius(tip, fractures, domain) -> float:
     return 0.0
 
 
-def _face_correction(cm, tip, face_forces, r_in, r_out, mu, kap):
+def _face_correction(cm, tip, face_forces, r_in, r_out, shear_modulus, kap):
     """E'/2-free face term F = int t . du^a/dx1 q ds over both faces."""
-    from .contact.face_term import face_term
-
     sel = np.asarray(cm.crack_fracture) == tip.fracture
     plus = np.asarray(cm.crack_edges)[sel]
     minus = np.asarray(cm.crack_edges_minus)[sel]
     upper, lower = (plus, minus) if tip.end == 1 else (minus, plus)
-    args = (tip.x, tip.ex, tip.ey, r_in, r_out, mu, kap)
+    args = (tip.x, tip.ex, tip.ey, r_in, r_out, shear_modulus, kap)
     uI, uII = face_term(cm.x, upper, face_forces, *args)
     lI, lII = face_term(cm.x, lower, face_forces, *args)
     # du^a/dx1 = -c/sqrt(r) on the upper face, +c/sqrt(r) on the lower
@@ -97,8 +96,9 @@ def correlation_sifs(problem, cm, E: float, nu: float, plane: str):
     ex = np.array([t.ex for t in tips], float)
     ey = np.array([t.ey for t in tips], float)
     h = np.array([t.h for t in tips], float)
-    mu = E / (2 * (1 + nu))
-    KI, KII = K.displacement_correlation(u[:, 0], u[:, 1], u[:, 2], u[:, 3], ex, ey, h, mu, kappa(nu, plane))
+    shear_modulus = E / (2 * (1 + nu))
+    KI, KII = K.displacement_correlation(u[:, 0], u[:, 1], u[:, 2], u[:, 3], ex, ey, h, shear_modulus,
+                                         kappa(nu, plane))
     return np.atleast_1d(KI), np.atleast_1d(KII)
 
 
@@ -109,7 +109,7 @@ def tip_sifs(problem, cm, fractures, domain, E: float, nu: float, plane: str, si
     tips = cm.tips
     if not tips:
         return []
-    mu = E / (2 * (1 + nu))
+    shear_modulus = E / (2 * (1 + nu))
     kap = kappa(nu, plane)
     KI, KII = correlation_sifs(problem, cm, E, nu, plane)
     theta = np.atleast_1d(K.mts_angle(KI, KII))
@@ -124,7 +124,7 @@ def tip_sifs(problem, cm, fractures, domain, E: float, nu: float, plane: str, si
         if r_out > 0.0:
             kim, kiim = M.sifs(t.x, t.ex, t.ey, r_in, r_out)
             if face_forces is not None:
-                fI, fII = _face_correction(cm, t, face_forces, r_in, r_out, mu, kap)
+                fI, fII = _face_correction(cm, t, face_forces, r_in, r_out, shear_modulus, kap)
                 kim -= M.Eprime / 2 * fI
                 kiim -= M.Eprime / 2 * fII
         else:

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <vector>
 
 #include "wingcrack/geometry.hpp"
 
@@ -38,6 +39,15 @@ Eigen::Map<const Points2> to_points(const Array& a, const char* name, Eigen::Ind
   return Eigen::Map<const Points2>(a.data(), a.shape(0), 2);
 }
 
+// k rows of (k, 2) points, each checked like to_points
+void check_rows(const Array& a, const char* name, py::ssize_t k) {
+  if (a.ndim() != 2 || a.shape(1) != 2 || a.shape(0) != k)
+    throw py::value_error(std::string(name) + " must be points of shape (" + std::to_string(k) + ", 2), got shape " +
+                          shape_of(a));
+}
+
+Point2 row(const Array& a, py::ssize_t i) { return {a.data()[2 * i], a.data()[2 * i + 1]}; }
+
 }  // namespace
 
 void bind_geometry(py::module_& m) {
@@ -56,6 +66,34 @@ void bind_geometry(py::module_& m) {
       "False, t, s, point are those of the closest approach. Zero-length segments act as points.");
 
   m.def(
+      "segment_intersections",
+      [](const Array& p0, const Array& p1, const Array& q0, const Array& q1, double tol) {
+        const py::ssize_t k = p0.ndim() == 2 ? p0.shape(0) : 0;
+        check_rows(p0, "p0", k);
+        check_rows(p1, "p1", k);
+        check_rows(q0, "q0", k);
+        check_rows(q1, "q1", k);
+        py::array_t<bool> hit(k);
+        Array t(k), s(k), point(std::vector<py::ssize_t>{k, 2});
+        auto h = hit.mutable_unchecked<1>();
+        auto tt = t.mutable_unchecked<1>();
+        auto ss = s.mutable_unchecked<1>();
+        auto pt = point.mutable_unchecked<2>();
+        for (py::ssize_t i = 0; i < k; ++i) {
+          const SegmentHit r = segment_intersection(row(p0, i), row(p1, i), row(q0, i), row(q1, i), tol);
+          h(i) = r.hit;
+          tt(i) = r.t;
+          ss(i) = r.s;
+          pt(i, 0) = r.point[0];
+          pt(i, 1) = r.point[1];
+        }
+        return py::make_tuple(hit, t, s, point);
+      },
+      py::arg("p0"), py::arg("p1"), py::arg("q0"), py::arg("q1"), py::arg("tol") = 1e-12,
+      "segment_intersection of k pairs of segments at once: the rows of p0, p1, q0, q1 (k, 2) ->\n"
+      "(hit (k,) bool, t (k,), s (k,), point (k, 2)), each row what segment_intersection gives.");
+
+  m.def(
       "point_segment_distance",
       [](const Array& p, const Array& a, const Array& b) {
         const SegmentDistance d = point_segment_distance(to_point(p, "p"), to_point(a, "a"), to_point(b, "b"));
@@ -70,6 +108,21 @@ void bind_geometry(py::module_& m) {
         return point_polyline_distance(to_point(p, "p"), to_points(points, "points", 1));
       },
       py::arg("p"), py::arg("points"), "Distance (float) from p (2,) to the polyline points (n, 2), n >= 1.");
+
+  m.def(
+      "point_polyline_distances",
+      [](const Array& p, const Array& points) {
+        const py::ssize_t k = p.ndim() == 2 ? p.shape(0) : 0;
+        check_rows(p, "p", k);
+        const auto line = to_points(points, "points", 1);
+        Array out(k);
+        auto d = out.mutable_unchecked<1>();
+        for (py::ssize_t i = 0; i < k; ++i) d(i) = point_polyline_distance(row(p, i), line);
+        return out;
+      },
+      py::arg("p"), py::arg("points"),
+      "point_polyline_distance of k points p (k, 2) at once: their distances (k,) to the polyline\n"
+      "points (n, 2), n >= 1.");
 
   m.def(
       "closest_point_on_polyline",

@@ -271,3 +271,24 @@ def test_two_runs_into_one_folder(tmp_path):
     assert (s["title"], s["status"], len(s["steps"])) == ("first", "finished", 8)
     assert sorted(p.name for p in out.glob("*_*.vtu")) == [f"{k}_{i:04d}.vtu" for k in ("faces", "step")
                                                            for i in range(8)]
+
+
+def test_the_folder_is_collective_exactly_where_a_launcher_names_the_rank(tmp_path):
+    """One rank detection (wingcrack.parallel): the folder's lock is taken
+    collectively where world_rank reads a launcher's rank from the
+    environment (each of its variables), and a serial command locks its
+    folder without starting MPI."""
+    from wingcrack import parallel
+
+    code = ("import sys; from wingcrack.io.outdir import locked; from wingcrack.parallel import launched, world_rank\n"
+            "with locked(sys.argv[1]):\n"
+            "    print(launched(), world_rank(), 'mpi4py.MPI' in sys.modules)\n")
+    clean = {k: v for k, v in os.environ.items() if k not in parallel._RANK_VARIABLES and "OMPI" not in k
+             and not k.startswith(("PMI", "PMIX"))}
+    serial = subprocess.run([sys.executable, "-c", code, str(tmp_path)], env=clean, capture_output=True, text=True,
+                            timeout=120)
+    assert serial.stdout == "False 0 False\n", serial.stderr
+    for name in parallel._RANK_VARIABLES:   # rank 0 of a launcher (a singleton MPI here)
+        ranked = subprocess.run([sys.executable, "-c", code, str(tmp_path)], env={**clean, name: "0"},
+                                capture_output=True, text=True, timeout=120)
+        assert ranked.stdout == "True 0 True\n", (name, ranked.stderr)

@@ -148,6 +148,43 @@ def stop_then_resume(tmp_path, sig, delay, code, word, status):
     assert physics(r["steps"][:kept]) == physics(s["steps"])
 
 
+def test_a_killed_pumped_run_resumes_to_the_uninterrupted_runs_times_pressures_and_geometry(tmp_path):
+    """A run driven by a pump (tests/verification/test_injection_breakdown.py's
+    joins: its network takes in a dry and a wet fracture at step 2), killed
+    with SIGKILL after its first step and resumed: the checkpoint's pump
+    (the network, the fluid it held, the last time and pressure) carries it
+    on to the uninterrupted run's steps, to the digits (the same meshes and
+    solves: the run is deterministic), and the PVD's time axis is the steps'
+    times."""
+    from test_injection_breakdown import joining_dict
+    from wingcrack.io.pvd import read_pvd
+
+    case = tmp_path / "case.toml"
+    case.write_text(to_toml(joining_dict(steps=4)))
+    ref = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "ref"), "--quiet", "--no-plots"],
+                         capture_output=True, text=True)
+    assert ref.returncode == 0, ref.stderr
+    out = tmp_path / "out"
+    proc = start(case, out)
+    wait_for_steps(proc, out, 1)
+    t0 = time.perf_counter()
+    while not (out / "checkpoint.npz").exists():   # written just after summary.json
+        assert time.perf_counter() - t0 < 60
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert 1 <= finished_steps(out) < 4
+    resumed = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(out), "--quiet", "--no-plots", "--resume"],
+                             capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    a, b = (json.loads((d / "summary.json").read_text()) for d in (tmp_path / "ref", out))
+    assert a["status"] == b["status"] and len(a["steps"]) == len(b["steps"]) == 4
+    for sa, sb in zip(a["steps"], b["steps"]):
+        assert sa["time"] == sb["time"] and sa["injection"] == sb["injection"] and sa["networks"] == sb["networks"]
+    assert a["fractures"] == b["fractures"]
+    assert [t for t, _ in read_pvd(out / "fields.pvd")] == [s["time"] for s in a["steps"]]
+
+
 def test_resume_refuses_what_it_cannot_continue(tmp_path):
     case = write_case(tmp_path / "case.toml", steps=2)
     nothing = subprocess.run([str(WINGCRACK), "run", str(case), "-o", str(tmp_path / "none"), "--resume"],
@@ -362,10 +399,32 @@ def test_a_checkpoint_keeps_friction_and_cohesion(tmp_path):
     fset.fractures[0].extend(1, fset.fractures[0].points[-1] + [0.05, 0.1])   # a wing: the law is per fracture
     checkpoint.save(tmp_path, case, 0, fset, 0.5, [{"step": 0, "load_factor": 0.5}], None)
     got = checkpoint.load(tmp_path, case)["fset"].fractures
-    assert [(f.faces, f.friction, f.cohesion, f.wing_faces()) for f in got] == \
+    assert [(f.law.faces, f.law.friction, f.law.cohesion, f.law.wings().faces) for f in got] == \
         [("coulomb", 0.6, 2e5, "coulomb"), ("open", 0.0, 0.0, "open")]
-    assert all(type(f.friction) is float and type(f.cohesion) is float for f in got)
+    assert all(type(f.law.friction) is float and type(f.law.cohesion) is float for f in got)
     assert np.array_equal(got[0].points, fset.fractures[0].points) and got[0].pre == (0, 1)
+
+
+def test_the_face_law_keeps_the_format_4_fracture_keys(tmp_path):
+    """The checkpoint writes a fracture's face law by its field names beside
+    the other keys: the keys of format 4, so a folder written before the
+    law was one record resumes as it did. A field added to the law changes
+    them, and must change checkpoint.VERSION with them."""
+    from wingcrack.propagation import checkpoint
+    from wingcrack.propagation.fracture_set import FractureSet
+
+    _, case = _coulomb_case(tmp_path)
+    checkpoint.save(tmp_path, case, 0, FractureSet.from_case(case), 0.5, [{"step": 0, "load_factor": 0.5}], None)
+    with np.load(tmp_path / checkpoint.NAME) as data:
+        meta = json.loads(str(data["meta"]))
+    assert checkpoint.VERSION == meta["version"] == 4
+    assert [sorted(f) for f in meta["fractures"]] == [sorted(["pre", "ends", "faces", "gap", "slip", "slip_profile",
+                                                             "grow", "friction", "cohesion", "pressure",
+                                                             "joined_to"])] * 2
+    old = [dict(sorted(f.items())) for f in meta["fractures"]]   # another order of the same keys reads the same
+    _edit_meta(tmp_path / checkpoint.NAME, lambda m: m.update(fractures=old))
+    got = checkpoint.load(tmp_path, case)["fset"].fractures
+    assert [f.law for f in got] == [f.law for f in case.fractures]
 
 
 def test_a_checkpoint_keeps_pressure_and_joined_to(tmp_path):
@@ -380,14 +439,14 @@ def test_a_checkpoint_keeps_pressure_and_joined_to(tmp_path):
     path.write_text(path.read_text().replace('faces = "open"', 'faces = "open"\npressure = 3e5', 1))
     case = Case.from_toml(path)
     fset = FractureSet.from_case(case)
-    assert [f.pressure for f in fset.fractures] == [3e5, 0.0]
+    assert [f.law.pressure for f in fset.fractures] == [3e5, 0.0]
     fset.fractures[0].ends[1], fset.fractures[0].joined_to[1] = "joined", 1   # a wing of 0 ended on 1 as a T
     assert fset.connect_pressures()
     checkpoint.save(tmp_path, case, 0, fset, 0.5, [{"step": 0, "load_factor": 0.5}], None)
     got = checkpoint.load(tmp_path, case)["fset"].fractures
-    assert [(f.pressure, f.joined_to, f.ends) for f in got] == \
+    assert [(f.law.pressure, f.joined_to, f.ends) for f in got] == \
         [(3e5, [None, 1], ["tip", "joined"]), (3e5, [None, None], ["tip", "tip"])]
-    assert all(type(f.pressure) is float for f in got)
+    assert all(type(f.law.pressure) is float for f in got)
 
 
 def test_a_format_2_checkpoint_is_refused_naming_both(tmp_path, capsys):

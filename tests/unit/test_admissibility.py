@@ -221,13 +221,13 @@ def test_a_tip_growing_beside_another_tip_meets_it():
     """A new tip 2 rosette radii from another fracture's tip (over the 1.5 of
     the join distance, under the 2.5 that two rosettes need) would leave a
     geometry the next mesh refuses: it meets that tip instead."""
+    from wingcrack.face_law import FaceLaw
     from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
     from wingcrack.propagation.joining import place_tip
 
     h = H
-    a = GrowingFracture(np.array([[-0.3, 0.0], [-0.1, 0.0]]), (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
-    b = GrowingFracture(np.array([[-0.1 + 2.2 * h, 1.6 * h], [0.3, 1.6 * h]]), (0, 1), ["tip", "tip"], "open", 0.0,
-                        0.0, "uniform", True)
+    a = GrowingFracture(np.array([[-0.3, 0.0], [-0.1, 0.0]]), (0, 1), ["tip", "tip"], FaceLaw("open"))
+    b = GrowingFracture(np.array([[-0.1 + 2.2 * h, 1.6 * h], [0.3, 1.6 * h]]), (0, 1), ["tip", "tip"], FaceLaw("open"))
     domain = Domain("rectangle", corner=[-1, -1], size=[2, 2])
     fset = FractureSet([a, b])
     # growing straight on by h: 2 h below b's tip and 2 h from its polyline

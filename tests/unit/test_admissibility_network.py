@@ -186,4 +186,4 @@ def test_crossing_fractures_share_their_pressure():
     assert fset.links == [(0, 1)] == FractureSet.case_links(case) and fset.copy().links == [(0, 1)]
     assert fset.connected_groups() == [[0, 1], [2]]
     assert fset.connect_pressures()
-    assert [f.pressure for f in fset.fractures] == [2e5, 2e5, 1e5]
+    assert [f.law.pressure for f in fset.fractures] == [2e5, 2e5, 1e5]

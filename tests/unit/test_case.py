@@ -668,6 +668,9 @@ def test_every_key_of_the_description_is_read():
     given["domain"] = set(d["domain"])
     given["fractures"] = set(d["fractures"][1])
     given["bc"] = {k for bc in d["bc"] for k in bc}
+    # the pump (propagation.load = "injection" and its table): tests/unit/test_case_injection.py
+    given["top"].add("injection")
+    given["injection"] = {k.name for k in DESCRIPTION["injection"]}
     for name, keys in DESCRIPTION.items():
         if name not in ("domain", "bc"):  # one shape, one condition kind at a time
             assert given[name] == {k.name for k in keys}, name

@@ -74,3 +74,21 @@ def test_schur_complement_orders_by_amd(meshes):
     _, ordering, _ = solve(case, cm, schur=True)
     assert ordering == AMD
     assert not PETSc.Options().getAll()
+
+
+def test_the_lame_constants_by_their_names(meshes):
+    """ElasticProblem's constants are lame_lambda and lame_mu (the shear
+    modulus E / (2 (1 + nu)) in both planes); the former lam and mu still
+    read them, with a DeprecationWarning."""
+    from wingcrack.material import lame
+
+    case, cm = meshes["open"]
+    m = case.material
+    p = ElasticProblem(to_dolfinx(cm), m.E, m.nu, m.plane, case_loads(case, cm, case.fractures))
+    assert (float(p.lame_lambda.value), float(p.lame_mu.value)) == lame(m.E, m.nu, m.plane)
+    assert float(p.lame_mu.value) == m.E / (2.0 * (1.0 + m.nu))
+    with pytest.warns(DeprecationWarning, match="lame_mu"):
+        assert p.mu is p.lame_mu
+    with pytest.warns(DeprecationWarning, match="lame_lambda"):
+        assert p.lam is p.lame_lambda
+    p.destroy()

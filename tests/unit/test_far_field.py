@@ -269,7 +269,7 @@ def test_contact_through_the_condensed_factor(meshes):
         Sc = p.schur_complement().copy()
         contact = ContactProblem(p, rows)
         res = contact.solve(1.0)
-        results[reuse] = Sc, p.u.x.array.copy(), res.mu.copy(), res.active.copy()
+        results[reuse] = Sc, p.u.x.array.copy(), res.forces.copy(), res.active.copy()
         p.destroy()
     far.destroy()
     (Sc, u, mu, active), (Sc_ref, u_ref, mu_ref, active_ref) = results[True], results[False]

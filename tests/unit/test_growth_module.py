@@ -11,6 +11,7 @@ import pytest
 from meshing import Domain, admissibility, crack_mesh
 from wingcrack.case import Case, CaseError
 from wingcrack.propagation import growth
+from wingcrack.face_law import FaceLaw
 from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
 from wingcrack.propagation.joining import place_tip
 from wingcrack.shortest_advance import L_MIN, length_problem
@@ -21,7 +22,7 @@ DOMAIN = Domain("rectangle", corner=[-2.0, -2.0], size=[4.0, 4.0])
 
 def fset_of(points):
     pts = np.asarray(points, float)
-    return FractureSet([GrowingFracture(pts, (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)])
+    return FractureSet([GrowingFracture(pts, (0, 1), ["tip", "tip"], FaceLaw("open"))])
 
 
 def candidate_at_end_1(fset, theta, K_eq=1.0):

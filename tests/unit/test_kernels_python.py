@@ -192,3 +192,27 @@ def test_distances_and_polylines():
         K.point_polyline_distance(np.zeros(3), pts)
     with pytest.raises(ValueError, match=r"q1 must be a point"):
         K.segment_intersection([0, 0], [1, 1], [0, 1], [[1, 0]])
+
+
+def test_the_batch_kernels_give_each_row_what_the_one_row_kernels_give():
+    """segment_intersections and point_polyline_distances run the same C++
+    functions row by row: equal bit for bit to the one-row kernels (the
+    crossing test and the constraint rows switched to them with results
+    unchanged), touches, collinear and zero-length segments included."""
+    rng = np.random.default_rng(3)
+    p0, p1, q0, q1 = (rng.integers(-3, 4, size=(400, 2)).astype(float) / 2 for _ in range(4))
+    hit, t, s, point = K.segment_intersections(p0, p1, q0, q1, 1e-9)
+    one = [K.segment_intersection(*row, 1e-9) for row in zip(p0, p1, q0, q1)]
+    assert hit.dtype == bool and hit.any() and not hit.all()   # the rows hold hits and misses
+    assert np.array_equal(hit, [h for h, *_ in one])
+    assert np.array_equal(t, [r[1] for r in one]) and np.array_equal(s, [r[2] for r in one])
+    assert np.array_equal(point, np.array([r[3] for r in one]))
+    pts = rng.normal(size=(7, 2))
+    p = rng.normal(size=(50, 2))
+    assert np.array_equal(K.point_polyline_distances(p, pts), [K.point_polyline_distance(x, pts) for x in p])
+    assert K.point_polyline_distances(np.zeros((0, 2)), pts).shape == (0,)
+    assert K.segment_intersections(*(np.zeros((0, 2)),) * 4)[0].shape == (0,)
+    with pytest.raises(ValueError, match=r"q0 must be points of shape \(400, 2\), got shape \(399, 2\)"):
+        K.segment_intersections(p0, p1, q0[1:], q1)
+    with pytest.raises(ValueError, match=r"p must be points of shape"):
+        K.point_polyline_distances(np.zeros(2), pts)

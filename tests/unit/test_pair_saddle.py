@@ -27,7 +27,7 @@ def test_the_saddle_route_is_the_dense_one(name, monkeypatch):
     a, b = dense.contact.result, sparse.contact.result
     # MUMPS's Cholesky and Schur complement against its LU of the saddle system: pair systems of condition
     # ~1e4 to 1e6, so ~1e-12 of the force and jump scales (measured 1e-14 to 1.3e-12)
-    np.testing.assert_allclose(b.mu, a.mu, rtol=0, atol=1e-10 * np.abs(a.mu).max())
+    np.testing.assert_allclose(b.forces, a.forces, rtol=0, atol=1e-10 * np.abs(a.forces).max())
     jscale = max(np.abs(a.jump0).max(), np.abs(a.jump).max())
     np.testing.assert_allclose(b.jump, a.jump, rtol=0, atol=1e-10 * jscale)
     if getattr(a, "state", None) is not None:
@@ -75,7 +75,7 @@ def test_a_set_near_the_factorised_one_is_solved_by_an_update_as_by_a_new_factor
     assert s.updates >= 1 and s.factorisations < t.factorisations and t.updates == 0
     a, b = anew.contact.result, kept.contact.result
     np.testing.assert_array_equal(b.state, a.state)
-    np.testing.assert_allclose(b.mu, a.mu, rtol=0, atol=1e-10 * np.abs(a.mu).max())
+    np.testing.assert_allclose(b.forces, a.forces, rtol=0, atol=1e-10 * np.abs(a.forces).max())
     np.testing.assert_allclose(b.jump, a.jump, rtol=0, atol=1e-10 * np.abs(a.jump).max())
 
 
@@ -130,7 +130,7 @@ def test_the_saddle_routes_problem_of_some_rows_is_the_dense_one(monkeypatch):
     law, S, target = rows.friction_law(), dense.contact.op.S, res.reference
     A = rows.normal & res.active
     T = np.where(rows.coulomb, res.state, OPEN).astype(np.int8)
-    sign = np.where(T == SLIP, np.sign(-res.mu), 0.0)
+    sign = np.where(T == SLIP, np.sign(-res.forces), 0.0)
     C = np.asarray(res.cohesive, bool)
     closed = np.flatnonzero(A)[:3]                       # three closed pairs: their normal and Coulomb rows
     y = np.zeros(len(rows), bool)
@@ -197,12 +197,12 @@ def test_the_trial_start_ends_where_the_sticking_start_does_on_a_network(monkeyp
     monkeypatch.setattr(by_sets, "iterate_states", lambda *a, **k: iterate(*a, **{**k, "trial": False}))
     sticking = step.solve_initial(case).contact.result
     assert np.sum(trial.state == SLIP) > 100 and np.sum(trial.state == STICK) > 100 and not trial.fallback
-    np.testing.assert_allclose(trial.mu, sticking.mu, rtol=0, atol=1e-10 * np.abs(sticking.mu).max())
+    np.testing.assert_allclose(trial.forces, sticking.forces, rtol=0, atol=1e-10 * np.abs(sticking.forces).max())
     jscale = max(np.abs(sticking.jump0).max(), np.abs(sticking.jump).max())
     np.testing.assert_allclose(trial.jump, sticking.jump, rtol=0, atol=1e-10 * jscale)
     np.testing.assert_array_equal(trial.active, sticking.active)
     differ = np.flatnonzero(trial.state != sticking.state)
-    at_bound = np.abs(np.abs(sticking.mu) - sticking.bound()) <= 1e-8 * np.abs(sticking.mu).max()
+    at_bound = np.abs(np.abs(sticking.forces) - sticking.bound()) <= 1e-8 * np.abs(sticking.forces).max()
     assert len(differ) <= 4 and np.all(at_bound[differ])
     # the law's residuals, relative to the largest traction and to the jump scale: round-off of the solves
-    assert max(trial.friction_residuals(np.ones(len(trial.mu))).values()) < 1e-8
+    assert max(trial.friction_residuals(np.ones(len(trial.forces))).values()) < 1e-8

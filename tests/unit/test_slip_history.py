@@ -29,6 +29,7 @@ import pytest
 from meshing import crack_mesh
 from meshing.domain import Domain
 from wingcrack.contact.slip_history import KEYS, SlipHistory, pair_arc_lengths
+from wingcrack.face_law import FaceLaw
 from wingcrack.propagation.fracture_set import GrowingFracture
 
 DOMAIN = Domain("rectangle", corner=[-1.0, -1.0], size=[2.0, 2.0])
@@ -41,8 +42,7 @@ RTOL = 1e-12   # see the module docstring
 
 def fracture(points, pre=None) -> GrowingFracture:
     points = np.array(points, float)
-    return GrowingFracture(points, pre or (0, len(points) - 1), ["tip", "tip"], "coulomb", 0.0, 0.0,
-                           "uniform", True)
+    return GrowingFracture(points, pre or (0, len(points) - 1), ["tip", "tip"], FaceLaw("coulomb"))
 
 
 def mesh(polylines, size=0.2, tip_size=0.02):

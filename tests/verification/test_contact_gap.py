@@ -36,7 +36,7 @@ def test_small_gap_closes_where_the_faces_meet():
             assert np.abs(res.jump[act] + g).max() < 1e-10 * g
         assert np.min(res.jump[rows.normal] + rows.gap[rows.normal]) > -1e-12 * max(g, 1e-6)
         closed.append(int(act.sum()))
-        force.append(float(res.mu.sum()))
+        force.append(float(res.forces.sum()))
         if g > 0:
             # the closed pairs are the middle ones
             s_closed = np.abs(rows.position[act, 0])

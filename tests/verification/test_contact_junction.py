@@ -79,11 +79,12 @@ def test_closed_fractures_met_end_to_end_under_hydrostatic_compression():
 def test_a_join_next_to_a_growing_tip_links_the_two():
     """The loop's rule: a join point within reach of another fracture's tip
     moves onto that tip, and both ends stop ('joined')."""
+    from wingcrack.face_law import FaceLaw
     from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
     from wingcrack.propagation.growth import meet_tip_to_tip
 
     def frac(p):
-        return GrowingFracture(np.array(p, float), (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
+        return GrowingFracture(np.array(p, float), (0, 1), ["tip", "tip"], FaceLaw("open"))
 
     fset = FractureSet([frac([[0, 0], [1, 0]]), frac([[1.05, 0.5], [1.02, 0.04]])])
     p, met = meet_tip_to_tip(fset, 0, np.array([1.0, 0.03]), reach=0.075)
@@ -99,11 +100,12 @@ def test_a_kink_folding_back_onto_its_own_crack_is_not_a_join():
     """A wing that turns back onto its own crack would enclose a piece of the
     body that nothing holds (soak seed 72 failed 'singular' so): such a join
     point is recognised, and the loop leaves the tip where it is."""
+    from wingcrack.face_law import FaceLaw
     from wingcrack.propagation.fracture_set import GrowingFracture
     from wingcrack.propagation.growth import on_own_fracture
 
     f = GrowingFracture(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.1], [0.9, 0.1]]), (0, 1), ["tip", "tip"],
-                        "open", 0.0, 0.0, "uniform", True)
+                        FaceLaw("open"))
     assert on_own_fracture(f, 1, np.array([0.95, 0.0]))        # back on its own first segment
     assert not on_own_fracture(f, 1, np.array([0.85, 0.3]))    # free space
 

@@ -33,13 +33,13 @@ def test_kkt_and_initial_guess(path):
         other = fixed_point_solve(op.S, res.jump0, res.reference, rows.normal, ~rows.normal & ~rows.coulomb,
                              rows.friction_law(), [])
         np.testing.assert_array_equal(other.state, res.state)
-        assert np.allclose(other.mu, res.mu, rtol=1e-9, atol=1e-10 * np.abs(res.mu).max())
+        assert np.allclose(other.forces, res.forces, rtol=1e-9, atol=1e-10 * np.abs(res.forces).max())
         return
     target = np.where(rows.normal, -rows.gap, rows.slip)
     for start in (np.ones(len(rows), bool), np.zeros(len(rows), bool)):
         other = solve_active_set(op.S, res.jump0, target, rows.normal, active=start)
         assert np.array_equal(other.active, res.active)
-        assert np.allclose(other.mu, res.mu, rtol=1e-9, atol=1e-12 * np.abs(res.mu).max())
+        assert np.allclose(other.forces, res.forces, rtol=1e-9, atol=1e-12 * np.abs(res.forces).max())
 
 
 def lcp_by_enumeration(S, q):
@@ -75,6 +75,6 @@ def test_cycling_active_set_falls_back_to_an_exact_solve():
         jump0 = rng.normal(size=m)
         res = solve_active_set(S, jump0, np.zeros(m), np.ones(m, bool))
         ref = lcp_by_enumeration(S, jump0)
-        assert np.allclose(res.mu, ref, rtol=0, atol=1e-9 * max(np.abs(ref).max(), 1e-300))
+        assert np.allclose(res.forces, ref, rtol=0, atol=1e-9 * max(np.abs(ref).max(), 1e-300))
         fell_back += res.fallback
     assert fell_back >= 5  # the draws do exercise the fallback

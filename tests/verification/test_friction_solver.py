@@ -64,7 +64,7 @@ def test_one_pair_matches_the_closed_form(f, b0, expected):
     mu, state = _one_pair(S, jump0, 0.0, 0.1, f, b0)
     assert res.state[1] == state == expected
     # one dense 2x2 solve each: round-off
-    np.testing.assert_allclose(res.mu, mu, rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(res.forces, mu, rtol=1e-13, atol=1e-14)
     assert not res.fallback
 
 
@@ -73,7 +73,7 @@ def test_an_open_pair_carries_no_traction_even_with_cohesion():
     law, normal = _law(1, 0.5, 10.0)
     res = solve_friction(S, np.array([0.5, 0.8]), np.array([0.0, 0.0]), normal, law)
     assert res.state[1] == OPEN and not res.active[0]
-    assert np.all(res.mu == 0.0)
+    assert np.all(res.forces == 0.0)
 
 
 def _random_problem(seed, p=12, f=0.4, c=0.05):
@@ -107,8 +107,8 @@ def test_random_pair_systems_satisfy_the_friction_law(seed, cohesion):
     assert res.broken == 0
     # the second method (fixed point of Tresca problems by bounded least squares) finds the same forces
     other = fixed_point_solve(S, jump0, target, normal, ~normal & ~law.coulomb, law, [])
-    scale = np.max(np.abs(res.mu))
-    np.testing.assert_allclose(other.mu, res.mu, atol=1e-8 * scale)
+    scale = np.max(np.abs(res.forces))
+    np.testing.assert_allclose(other.forces, res.forces, atol=1e-8 * scale)
     np.testing.assert_array_equal(other.state, res.state)
 
 
@@ -117,9 +117,9 @@ def test_without_friction_and_cohesion_the_result_is_the_frictionless_one():
     res = solve_friction(S, jump0, target, normal, law)
     idx = np.flatnonzero(normal)
     free = solve_active_set(S[np.ix_(idx, idx)], jump0[idx], target[idx], np.ones(len(idx), bool))
-    scale = np.max(np.abs(res.mu))
-    assert np.all(res.mu[~normal] == 0.0)
-    np.testing.assert_allclose(res.mu[idx], free.mu, atol=1e-12 * scale)
+    scale = np.max(np.abs(res.forces))
+    assert np.all(res.forces[~normal] == 0.0)
+    np.testing.assert_allclose(res.forces[idx], free.forces, atol=1e-12 * scale)
     np.testing.assert_array_equal(res.active[idx], free.active)
     assert np.all(res.state[law.coulomb] != STICK)
 
@@ -168,11 +168,11 @@ def _check_slipping_at_the_bound(S, jump0, target, normal, law, mu):
     # increment is inside it may end sticking with a force over the bound by up to the band instead, which
     # moves the forces by about the band times the condition of S (below 25): 1e-12 x 25 (measured on 300
     # seeds: 1.8e-12)
-    np.testing.assert_allclose(res.mu, mu, rtol=0, atol=25 * STATE_BAND)
+    np.testing.assert_allclose(res.forces, mu, rtol=0, atol=25 * STATE_BAND)
     assert np.all(res.state[law.coulomb] == SLIP)
     # the second method, whose fixed point stops at 1e-13 relative change of the normal forces
     other = fixed_point_solve(S, jump0, target, normal, ~normal & ~law.coulomb, law, [])
-    np.testing.assert_allclose(other.mu, res.mu, rtol=0, atol=1e-8 * np.max(np.abs(res.mu)))
+    np.testing.assert_allclose(other.forces, res.forces, rtol=0, atol=1e-8 * np.max(np.abs(res.forces)))
     np.testing.assert_array_equal(other.state, res.state)
 
 
@@ -210,7 +210,7 @@ def test_a_start_from_the_last_solve_changes_the_path_not_the_answer(seed):
         cold = solve_friction(S, j0, reference, normal, law)
         warm = solve_friction(S, j0, reference, normal, law, start=last)
         # the forces of one state set by the same dense solve: equal to round-off of the load scale
-        np.testing.assert_allclose(warm.mu, cold.mu, rtol=0, atol=1e-12 * np.max(np.abs(cold.mu)))
+        np.testing.assert_allclose(warm.forces, cold.forces, rtol=0, atol=1e-12 * np.max(np.abs(cold.forces)))
         np.testing.assert_array_equal(warm.state, cold.state)
         assert not warm.fallback
         cold_iterations += cold.iterations
@@ -220,8 +220,8 @@ def test_a_start_from_the_last_solve_changes_the_path_not_the_answer(seed):
     other = _random_problem(seed + 50)
     foreign = solve_friction(*other)
     res = solve_friction(S, jump0, target, normal, law, start=foreign)
-    np.testing.assert_allclose(res.mu, solve_friction(S, jump0, target, normal, law).mu, rtol=0,
-                               atol=1e-12 * np.max(np.abs(res.mu)))
+    np.testing.assert_allclose(res.forces, solve_friction(S, jump0, target, normal, law).forces, rtol=0,
+                               atol=1e-12 * np.max(np.abs(res.forces)))
 
 
 # the seeds of the 200 below whose solve failed before the touching tolerance and the fallback that fixes
@@ -271,12 +271,12 @@ def test_cohesion_held_by_a_touching_pair_without_normal_force():
     law, normal = _law(1, 0.5, 1.0)
     held = solve_friction(S, np.array([1e-6, 1.5]), np.zeros(2), normal, law)   # opens by 1e-6 of the slip
     assert held.state[1] == STICK
-    np.testing.assert_allclose(held.mu, [0.0, -0.75], rtol=1e-14)   # S_tt mu_t = -jump0_t
+    np.testing.assert_allclose(held.forces, [0.0, -0.75], rtol=1e-14)   # S_tt mu_t = -jump0_t
     slips = solve_friction(S, np.array([1e-6, 3.0]), np.zeros(2), normal, law)
     assert slips.state[1] == SLIP
-    np.testing.assert_allclose(slips.mu, [0.0, -1.0], rtol=1e-14)   # at the cohesion bound
+    np.testing.assert_allclose(slips.forces, [0.0, -1.0], rtol=1e-14)   # at the cohesion bound
     gone = solve_friction(S, np.array([0.1, 1.5]), np.zeros(2), normal, law)  # open by 7 % of the slip
-    assert gone.state[1] == OPEN and np.all(gone.mu == 0.0)
+    assert gone.state[1] == OPEN and np.all(gone.forces == 0.0)
 
 
 def test_the_stalled_network_system_solves_fast():
@@ -328,7 +328,7 @@ def test_a_slip_whose_increment_turns_back_sticks_before_it_reverses(sign):
     if sign < 0:   # the free increment is +0.7: slipping the other way, the first set's increment turns back
         assert sets[0][1][1] * sets[0][2][1] < 0
     mu, _ = _one_pair(S, jump0, 0.0, 0.1, 0.5, 0.0)
-    np.testing.assert_allclose(res.mu, mu, rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(res.forces, mu, rtol=1e-13, atol=1e-14)
 
 
 @pytest.mark.parametrize("seed", range(10))
@@ -390,7 +390,7 @@ def test_solved_set_by_set_every_pair_system_ends_with_the_law_held(p, f, cohesi
         assert max(r.values()) < 1e-10 and max(kkt.values()) < 1e-10, (seed, r, kkt)
         if cohesion == 0.0:
             dense = solve_friction(S, jump0, target, normal, law)
-            np.testing.assert_allclose(res.mu, dense.mu, rtol=0, atol=1e-10 * np.abs(dense.mu).max())
+            np.testing.assert_allclose(res.forces, dense.forces, rtol=0, atol=1e-10 * np.abs(dense.forces).max())
     if (p, f, cohesion) == (12, 0.2, 0.05):
         assert fell_back >= 2   # seeds 4 and 16 cycle under every scaling: the cycling rows' solve is tested
 
@@ -424,6 +424,17 @@ def test_the_trial_start_ends_on_the_set_of_the_sticking_start(p, f, cohesion):
         a, b = res[False], res[True]
         np.testing.assert_array_equal(b.state, a.state)
         np.testing.assert_array_equal(b.active, a.active)
-        np.testing.assert_allclose(b.mu, a.mu, rtol=0, atol=1e-10 * np.abs(a.mu).max())
+        np.testing.assert_allclose(b.forces, a.forces, rtol=0, atol=1e-10 * np.abs(a.forces).max())
     assert both >= 30
     assert sets[True] < sets[False]
+
+
+def test_the_row_forces_are_named_forces():
+    """A contact result's row forces (the multipliers) are .forces; the
+    former .mu still reads them, with a DeprecationWarning."""
+    S = np.array([[2.0, 0.5], [0.5, 1.0]])
+    res = solve_active_set(S, np.array([-1.0, 0.3]), np.zeros(2), np.array([True, True]))
+    assert res.forces[0] > 0 and res.forces[1] == 0.0   # the first row closed, the second open
+    np.testing.assert_allclose(S @ res.forces + [-1.0, 0.3], res.jump, rtol=0, atol=1e-15)
+    with pytest.warns(DeprecationWarning, match=r"\.forces"):
+        assert res.mu is res.forces

@@ -90,9 +90,9 @@ def test_a_join_connects_the_pressures(tmp_path, connect):
     f0, f1 = r.fractures.fractures
     assert f0.ends[1] == "joined" and f0.joined_to == [None, 1]
     want = [1.0, 1.0] if connect else [1.0, 0.0]
-    assert [f0.pressure, f1.pressure] == want
+    assert [f0.law.pressure, f1.law.pressure] == want
     saved = checkpoint.load(tmp_path, case)["fset"].fractures
-    assert [f.pressure for f in saved] == want and saved[0].joined_to == [None, 1]
+    assert [f.law.pressure for f in saved] == want and saved[0].joined_to == [None, 1]
 
 
 def test_a_failure_keeps_the_finished_steps(tmp_path, monkeypatch):

@@ -131,12 +131,13 @@ def test_a_tip_curling_back_onto_its_own_wing_is_seen_before_the_mesher():
     three_fractures_slip.toml). Reference: crack_mesh's own rosette check
     refuses the geometry that a plain step would have made."""
     from meshing import Domain, crack_mesh
+    from wingcrack.face_law import FaceLaw
     from wingcrack.propagation.fracture_set import FractureSet, GrowingFracture
     from wingcrack.propagation.joining import place_tip
 
     h = 0.05
     pts = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.05]])
-    f = GrowingFracture(pts, (0, 1), ["tip", "tip"], "open", 0.0, 0.0, "uniform", True)
+    f = GrowingFracture(pts, (0, 1), ["tip", "tip"], FaceLaw("open"))
     domain = Domain("rectangle", corner=[-2.0, -2.0], size=[4.0, 4.0])
     d = np.array([-1.0, 0.0])   # a 90-degree kink: clear of the neighbour, 1.0 h from the first segment
     p, state = place_tip(FractureSet([f]), 0, 1, d, h, domain, 1.5 * h)

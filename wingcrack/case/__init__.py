@@ -21,23 +21,24 @@ Points are (x, y) float64. Load scaling (done by the solver, not here): with
 propagation.load = "scale" every bc force, traction and displacement, every
 prescribed fracture slip and every fracture pressure is multiplied by the load
 factor; with "pressure" only the fracture pressures are; the initial stress
-and gravity never are.
+and gravity never are. With "injection" nothing is scaled: the [injection]
+table's pump sets the injected network's pressure in time.
 """
 from wingcrack.case.bounds import (FACES, LENGTH_RANGE, LOADS, MAX_ELEMENTS, MAX_FILE_BYTES, MAX_FRICTION,
                                    MAX_ITEMS, MAX_OFFSET, MAX_SECTORS, MAX_STRAIN, MIN_TIP_FRACTION, PLANES,
                                    REL_TOL, SHAPES, SIFS, SLIP_PROFILES)
-from wingcrack.case.keys import (BOOLEAN, INTEGER, NON_NEGATIVE, NUMBER, POINT, POINTS, POSITIVE, REQUIRED,
+from wingcrack.case.keys import (BOOLEAN, INTEGER, NON_NEGATIVE, NUMBER, NUMBERS, POINT, POINTS, POSITIVE, REQUIRED,
                                  STRING, TABLE, TABLES, Key, Limit, Range, Ref, key, keys_of)
 from wingcrack.case.layout import BC_CONDITIONS, BC_KEYS, BC_PLACES, DESCRIPTION, SHAPE, SHAPE_KEYS, TOP_KEYS
 from wingcrack.case.model import Case
-from wingcrack.case.records import BC, Body, Fracture, Material, MeshOptions, Propagation, Stress, Tip
+from wingcrack.case.records import BC, Body, Fracture, Injection, Material, MeshOptions, Propagation, Stress, Tip
 from wingcrack.errors import CaseError
 
 __all__ = [
     "BC", "BC_CONDITIONS", "BC_KEYS", "BC_PLACES", "BOOLEAN", "Body", "Case", "CaseError", "DESCRIPTION", "FACES",
-    "Fracture", "INTEGER", "Key", "LENGTH_RANGE", "LOADS", "Limit", "MAX_ELEMENTS", "MAX_FILE_BYTES",
+    "Fracture", "INTEGER", "Injection", "Key", "LENGTH_RANGE", "LOADS", "Limit", "MAX_ELEMENTS", "MAX_FILE_BYTES",
     "MAX_FRICTION", "MAX_ITEMS", "MAX_OFFSET", "MAX_SECTORS", "MAX_STRAIN", "MIN_TIP_FRACTION", "Material",
-    "MeshOptions", "NON_NEGATIVE", "NUMBER", "PLANES", "POINT", "POINTS", "POSITIVE", "Propagation", "REL_TOL",
+    "MeshOptions", "NON_NEGATIVE", "NUMBER", "NUMBERS", "PLANES", "POINT", "POINTS", "POSITIVE", "Propagation", "REL_TOL",
     "REQUIRED", "Range", "Ref", "SHAPE", "SHAPES", "SHAPE_KEYS", "SIFS", "SLIP_PROFILES", "STRING", "Stress",
     "TABLE", "TABLES", "TOP_KEYS", "Tip", "key", "keys_of",
 ]

@@ -5,12 +5,11 @@ accepts the mesher meshes)."""
 from __future__ import annotations
 
 from meshing import admissibility
+from wingcrack.face_law import FACES, SLIP_PROFILES   # noqa: F401 - the face law's choices are the case's
 
 PLANES = ("stress", "strain")
 SHAPES = ("disc", "rectangle", "polygon")
-FACES = ("open", "frictionless", "slip", "coulomb")
-SLIP_PROFILES = ("uniform", "elliptic")
-LOADS = ("scale", "pressure", "fixed")
+LOADS = ("scale", "pressure", "fixed", "injection")
 SIFS = ("correlation", "interaction")
 #: Relative tolerance (times the domain length scale) for "on the boundary",
 #: "touching" and "zero length".
@@ -37,6 +36,19 @@ MAX_ITEMS = 1000
 #: slip or gap as a fraction of the domain size: a strain of 10 % is already
 #: beyond linear elasticity, and every product the solver forms stays finite.
 MAX_STRAIN = 0.1
+#: Water's compressibility (1/Pa, at 20 C): the fluid's default.
+WATER_COMPRESSIBILITY = 4.5e-10
+#: The largest compressibility times E: the fluid's density law is exp(c (p - p0)) with p at most
+#: 0.1 E (MAX_STRAIN), so c (p - p0) stays below 100 and the law in floating point (water in granite:
+#: c E = 32).
+MAX_COMPRESSIBILITY_E = 1000.0
+#: The longest time (s) a schedule may name: about 30,000 years.
+MAX_TIME = 1e12
+#: Keys of the flow along the fractures (a later version), refused by name rather than as unknown
+#: ({table: {key: what it is}}): one pressure per connected network is the model here.
+NOT_YET = {"injection": {"viscosity": "the fluid's viscosity", "leak_off": "a leak-off coefficient",
+                         "pressure": "a given pressure at the injection point"},
+           "fractures": {"hydraulic_aperture": "a fixed hydraulic aperture"}}
 #: The largest Coulomb coefficient `friction` may be: far above any measured
-#: one, and small enough that mu times a stress of 0.1 E stays finite.
+#: one, and small enough that friction times a stress of 0.1 E stays finite.
 MAX_FRICTION = 100.0

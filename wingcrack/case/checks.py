@@ -3,7 +3,7 @@ mesher's rules (meshing/admissibility.py) speak in the case file's keys, so
 a problem they find is the case's error; and what ties keys together (mesh
 sizes against the domain, slip fractures that meet, displacement conditions
 that conflict where their places meet, Lmax against the rosettes, injection
-with a pressure)."""
+with a pressure, the pump against the load mode and the fractures)."""
 from __future__ import annotations
 
 import math
@@ -13,7 +13,8 @@ import numpy as np
 import wingcrack_kernels as _kernels  # geometry predicates (C++)
 from meshing import admissibility
 from wingcrack.case.bounds import MAX_ELEMENTS
-from wingcrack.case.records import BC, MeshOptions, Propagation
+from wingcrack.case.bounds import REL_TOL
+from wingcrack.case.records import BC, Injection, MeshOptions, Propagation
 from wingcrack.errors import CaseError
 from wingcrack.shortest_advance import length_problem
 
@@ -120,3 +121,72 @@ def check_pressure_load(propagation: Propagation, fractures) -> None:
     if propagation.load == "pressure" and not any(f.pressure > 0 for f in fractures):
         raise CaseError("propagation.load", '"pressure" scales the fracture pressures, but no fracture has a '
                                             "pressure above 0 (give fractures[i].pressure)")
+
+
+def check_injection(injection: Injection | None, propagation: Propagation, fractures, domain) -> None:
+    """The [injection] table against the load mode, the fractures and
+    itself: a pump drives the run only with load = "injection", which needs
+    one; the injected fracture exists, and it and the fractures it meets
+    have no given pressure (theirs is the balance's); one of `rate` or
+    `times` with `rates`; the schedule increasing and before `end_time`;
+    the point on the fracture."""
+    if injection is None:
+        if propagation.load == "injection":
+            raise CaseError("propagation.load", '"injection" is driven by a pump: give an [injection] table '
+                                                "(fracture, and rate or times and rates)")
+        return
+    if propagation.load != "injection":
+        raise CaseError("injection", f'a pump drives the run only with propagation.load = "injection" (it is '
+                                     f'"{propagation.load}"): set it, or leave the [injection] table out')
+    i = injection.fracture
+    if i >= len(fractures):
+        have = f"fractures 0 .. {len(fractures) - 1}" if fractures else "no fractures"
+        raise CaseError("injection.fracture", f"no fracture {i}: the case has {have}")
+    network = admissibility.joined(domain, [f.points for f in fractures]).group_of(i)
+    for j in network:
+        if fractures[j].pressure:
+            met = "is injected" if j == i else f"meets the injected fractures[{i}]"
+            raise CaseError(f"fractures[{j}].pressure", f"fractures[{j}] {met}: its pressure is the injected "
+                                                        "network's (injection.initial_pressure at t = 0, then its "
+                                                        "fluid balance); leave its pressure out")
+    _check_schedule(injection)
+    if injection.point is not None:
+        tol = REL_TOL * float(domain.length_scale())
+        p = np.asarray(injection.point, float)
+        d = float(_kernels.point_polyline_distance(p, np.asarray(fractures[i].points, float)))
+        if d > tol:
+            raise CaseError("injection.point", f"({p[0]:g}, {p[1]:g}) is {d:.6g} m from fractures[{i}], the "
+                                               "injected fracture: the fluid enters on it")
+
+
+def _check_schedule(injection: Injection) -> None:
+    """`rate`, or `times` with as many `rates` (not all 0), strictly
+    increasing and before `end_time`."""
+    times, rates = injection.times, injection.rates
+    if injection.rate is not None:
+        for name, v in (("times", times), ("rates", rates)):
+            if v is not None:
+                raise CaseError(f"injection.{name}", "give rate (constant) or times with rates (a schedule), "
+                                                     "not both")
+        return
+    if times is None and rates is None:
+        raise CaseError("injection.rate", "missing: give rate (m^3/s per m), or times and rates (a schedule)")
+    for name, v, other in (("times", times, "rates"), ("rates", rates, "times")):
+        if v is None:
+            raise CaseError(f"injection.{name}", f"missing (required with injection.{other})")
+        if not v:
+            raise CaseError(f"injection.{name}", "empty: a schedule needs at least one interval")
+    if len(rates) != len(times):
+        raise CaseError("injection.rates", f"{len(rates)} rates for {len(times)} times: one rate for each "
+                                           "interval that a time starts")
+    for k in range(1, len(times)):
+        if not times[k] > times[k - 1]:
+            raise CaseError(f"injection.times[{k}]", f"the times must increase strictly ({times[k]:g} s "
+                                                     f"after {times[k - 1]:g} s)")
+    if not any(rates):
+        raise CaseError("injection.rates", "every rate is 0: nothing is ever injected")
+    end = injection.end_time
+    if end is not None and times[-1] >= end:
+        k = next(k for k, t in enumerate(times) if t >= end)
+        raise CaseError(f"injection.times[{k}]", f"{times[k]:g} s is not before end_time {end:g} s: the run never "
+                                                 "reaches that interval")

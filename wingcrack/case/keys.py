@@ -17,6 +17,7 @@ from wingcrack.errors import CaseError
 
 NUMBER, INTEGER, BOOLEAN, STRING = "number", "integer", "boolean", "string"
 POINT, POINTS, TABLE, TABLES = "[x, y]", "[[x, y], ...]", "table", "array of tables"
+NUMBERS = "[a, b, ...]"
 
 
 class _Required:
@@ -111,11 +112,11 @@ class Limit:
 class Key:
     """One key of a case table.
 
-    name and type (NUMBER, INTEGER, BOOLEAN, STRING, POINT, POINTS, TABLE,
-    TABLES) come from the dataclass field when the Key sits on one. default:
+    name and type (NUMBER, INTEGER, BOOLEAN, STRING, POINT, POINTS, NUMBERS,
+    TABLE, TABLES) come from the dataclass field when the Key sits on one. default:
     REQUIRED, a value, None (absent means not given) or a Ref. choices: the
     allowed strings. range: what the meaning allows (a point's components
-    each, named by `parts`). limit: the magnitude a case may ask for.
+    each, named by `parts`; a list's numbers each). limit: the magnitude a case may ask for.
     only_with (key, value): a value other than the default only when that
     earlier key of the table has that value. required_with (key, value):
     required when that earlier key has that value (elsewhere the default
@@ -156,7 +157,7 @@ class Key:
             other, want = self.only_with
             if v != self.default and values[other] != want:
                 raise CaseError(key, f'only with {other} = "{want}" ({other} is "{values[other]}")')
-        items = list(enumerate(v)) if self.type == POINT else [(None, v)]
+        items = list(enumerate(v)) if self.type in (POINT, NUMBERS) else [(None, v)]
         for i, x in items:
             at = key if i is None else f"{key}[{i}]"
             if self.range is not None:
@@ -173,7 +174,8 @@ def key(default=REQUIRED, **spec) -> dataclasses.Field:
     return field(default=default, metadata={"key": k})
 
 
-_TYPES = {float: NUMBER, int: INTEGER, bool: BOOLEAN, str: STRING, tuple[float, float]: POINT, np.ndarray: POINTS}
+_TYPES = {float: NUMBER, int: INTEGER, bool: BOOLEAN, str: STRING, tuple[float, float]: POINT, np.ndarray: POINTS,
+          tuple[float, ...]: NUMBERS}
 
 
 @functools.cache

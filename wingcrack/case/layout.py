@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from wingcrack.case.bounds import MAX_ITEMS, MAX_STRAIN, SHAPES
 from wingcrack.case.keys import NUMBER, POINT, POINTS, POSITIVE, STRING, TABLE, TABLES, Key, Limit, keys_of
-from wingcrack.case.records import SMALL, Body, Fracture, Material, MeshOptions, Propagation, Stress
+from wingcrack.case.records import SMALL, Body, Fracture, Injection, Material, MeshOptions, Propagation, Stress
 
 TOP_KEYS = (
     Key("title", STRING, "", default_doc="the file name without `.toml` (`Case.from_dict` gives `\"\"`)",
@@ -23,6 +23,8 @@ TOP_KEYS = (
     Key("stress", TABLE, None, default_doc="all 0", doc="Initial (in-situ) stress."),
     Key("mesh", TABLE, doc="Mesh sizes."),
     Key("propagation", TABLE, None, default_doc="all defaults", doc="Growth control. Only `run` reads it."),
+    Key("injection", TABLE, None, default_doc="none", rule="only with `propagation.load = \"injection\"`, which "
+        "needs it", doc="A pump: the injected volume drives the run in time (`run` only)."),
 )
 
 SHAPE = Key("shape", STRING, choices=SHAPES, doc="Which of the keys below the table takes.")
@@ -61,5 +63,5 @@ DESCRIPTION = {
     "top": TOP_KEYS, "material": keys_of(Material),
     "domain": (SHAPE,) + tuple(k for keys in SHAPE_KEYS.values() for k in keys),
     "fractures": keys_of(Fracture), "bc": BC_KEYS, "body": keys_of(Body), "stress": keys_of(Stress),
-    "mesh": keys_of(MeshOptions), "propagation": keys_of(Propagation),
+    "mesh": keys_of(MeshOptions), "propagation": keys_of(Propagation), "injection": keys_of(Injection),
 }

@@ -12,7 +12,8 @@ from meshing import admissibility
 from meshing.domain import Domain
 from wingcrack.case import reader
 from wingcrack.case.bounds import REL_TOL
-from wingcrack.case.records import BC, Body, Fracture, Material, MeshOptions, Propagation, Stress, Tip
+from wingcrack.case.records import BC, Body, Fracture, Injection, Material, MeshOptions, Propagation, Stress, Tip
+
 
 @dataclass(frozen=True, eq=False)
 class Case:
@@ -20,7 +21,8 @@ class Case:
 
     Fields: title, material, domain (meshing.Domain), fractures (tuple of
     Fracture), bcs (tuple of BC, in file order), body, stress, mesh
-    (MeshOptions), propagation, source (the file, or None).
+    (MeshOptions), propagation, injection (Injection, or None without a
+    pump), source (the file, or None).
     """
 
     title: str
@@ -32,6 +34,7 @@ class Case:
     stress: Stress
     mesh: MeshOptions
     propagation: Propagation
+    injection: Injection | None = None
     source: Path | None = field(default=None, compare=False)
 
     @classmethod
@@ -80,6 +83,27 @@ class Case:
         to end, a crossing), as the mesher joins them."""
         net = admissibility.joined(self.domain, self.fracture_points())
         return sorted((float(x), float(y)) for x, y in net.node_points())
+
+    def network_at_start(self) -> np.ndarray:
+        """(n_fractures,) bool: the injected fracture and every fracture it
+        meets (at a T, end to end, at an X), directly or through others: the
+        network the pump fills at t = 0. All False without a pump."""
+        out = np.zeros(len(self.fractures), bool)
+        if self.injection is not None:
+            net = admissibility.joined(self.domain, self.fracture_points())
+            out[net.group_of(self.injection.fracture)] = True
+        return out
+
+    def at_start(self) -> Case:
+        """The case as `sif` solves it: with a pump, its network at the
+        initial pressure and every load as given (load = "fixed"); the case
+        itself without one."""
+        if self.injection is None:
+            return self
+        p0 = self.injection.initial_pressure
+        inside = self.network_at_start()
+        fractures = tuple(replace(f, pressure=p0) if inside[i] else f for i, f in enumerate(self.fractures))
+        return replace(self, fractures=fractures, propagation=replace(self.propagation, load="fixed"), injection=None)
 
     def bc_points(self) -> list[np.ndarray]:
         """The distinct points of point conditions (`at`), to embed in the mesh."""

@@ -8,9 +8,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wingcrack.case.bounds import (FACES, LOADS, MAX_ELEMENTS, MAX_FRICTION, MAX_SECTORS, MAX_STRAIN,
-                                   MIN_TIP_FRACTION, PLANES, SIFS, SLIP_PROFILES)
+from wingcrack.case.bounds import (FACES, LOADS, MAX_COMPRESSIBILITY_E, MAX_ELEMENTS, MAX_FRICTION, MAX_SECTORS,
+                                   MAX_STRAIN, MAX_TIME, MIN_TIP_FRACTION, PLANES, SIFS, SLIP_PROFILES,
+                                   WATER_COMPRESSIBILITY)
 from wingcrack.case.keys import NON_NEGATIVE, POSITIVE, Limit, Range, Ref, key
+from wingcrack.face_law import FaceLaw
 
 SMALL = "beyond it strains are not small and linear elasticity fails"
 
@@ -77,6 +79,21 @@ class Fracture:
     def length(self) -> float:
         """Arc length (m)."""
         return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+
+    @property
+    def midpoint(self) -> np.ndarray:
+        """(2,) the point halfway along the polyline (m)."""
+        seg = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+        s = np.r_[0.0, np.cumsum(seg)]
+        k = min(int(np.searchsorted(s, 0.5 * s[-1], side="right")) - 1, len(seg) - 1)
+        t = (0.5 * s[-1] - s[k]) / seg[k] if seg[k] > 0 else 0.0
+        return self.points[k] + t * (self.points[k + 1] - self.points[k])
+
+    @property
+    def law(self) -> FaceLaw:
+        """The face law these keys give (faces, gap, slip, slip_profile,
+        friction, cohesion, pressure): the one record the run carries."""
+        return FaceLaw.of(self)
 
 
 @dataclass(frozen=True)
@@ -183,8 +200,11 @@ class Propagation:
                     "`pressure` (injection): the factor, found the same way, multiplies the fracture pressures "
                     "only; bc values, slip, the in-situ stress and gravity stay at factor 1, and the critical "
                     "factor times a fracture's `pressure` is its critical injection pressure. `fixed`: the factor "
-                    "is 1, and the run stops when no tip reaches KIc.",
-                    rule="`pressure` needs a fracture with `pressure` > 0")
+                    "is 1, and the run stops when no tip reaches KIc. `injection`: the `[injection]` table's pump "
+                    "drives the run in time; every other load stays as given, and the injected network's "
+                    "pressure follows from its fluid mass (see \"Injection\" below); the load factor is that "
+                    "pressure in Pa.",
+                    rule="`pressure` needs a fracture with `pressure` > 0; `injection` needs an `[injection]` table")
     max_load_factor: float = key(100.0, range=POSITIVE, added=True,
                                  doc="With `load = \"scale\"` or `\"pressure\"`, the run stops (\"no tip reaches "
                                      "KIc below the load factor limit\") if the critical factor would exceed this.",
@@ -200,3 +220,50 @@ class Propagation:
                                  "group takes "
                                  "the highest pressure among its fractures, from the next step on. `false`: each "
                                  "fracture keeps its own `pressure`.")
+
+
+@dataclass(frozen=True)
+class Injection:
+    """A pump into one fracture (propagation.load = "injection"): a constant
+    rate or a schedule of piecewise constant rates, and the fluid. Volumes
+    are per metre of thickness, at the fluid's density at
+    `initial_pressure`."""
+
+    fracture: int = key(range=NON_NEGATIVE, rule="a fracture of the case, with no `pressure` of its own",
+                        doc="The fracture injected into. With the fractures it meets (and, with "
+                            "`propagation.connect_pressure`, those its wings join later) it is the injected "
+                            "network: one pressure, the root of its fluid balance.")
+    point: tuple[float, float] = key(None, unit="m", default_doc="the fracture's midpoint",
+                                     rule="on the injected fracture",
+                                     doc="Where the fluid enters. With one pressure per network it changes no "
+                                         "result; it is the flow's source when the flow along the fractures comes.")
+    rate: float = key(None, unit="m^3/s per m", range=POSITIVE, rule="`rate`, or `times` with `rates`",
+                      limit=Limit(hi=1.0, of="L^2", why="the domain's area each second"),
+                      doc="A constant injection rate from t = 0.")
+    times: tuple[float, ...] = key(None, unit="s", range=NON_NEGATIVE, rule="strictly increasing, before `end_time`",
+                                   limit=Limit(hi=MAX_TIME, why="about 30,000 years"),
+                                   doc="The schedule: the start of each interval of `rates` (before the first, "
+                                       "nothing is injected).")
+    rates: tuple[float, ...] = key(None, unit="m^3/s per m", range=NON_NEGATIVE,
+                                   rule="one per entry of `times`, not all 0",
+                                   limit=Limit(hi=1.0, of="L^2", why="the domain's area each second"),
+                                   doc="The rate from each of `times` to the next (the last one to the end); a "
+                                       "zero rate is shut-in: the network keeps its fluid and waits.")
+    compressibility: float = key(WATER_COMPRESSIBILITY, unit="1/Pa", range=NON_NEGATIVE,
+                                 limit=Limit(hi=MAX_COMPRESSIBILITY_E, of="E^-1",
+                                             why="c (p - p0) below 100 at the largest pressure 0.1 E"),
+                                 doc="c of the fluid's density, rho = rho0 exp(c (p - p0)) (p0 the "
+                                     "`initial_pressure`); 0: incompressible. The default is water's.")
+    residual_aperture: float = key(0.0, unit="m", range=NON_NEGATIVE, limit=Limit(hi=MAX_STRAIN, of="L", why=SMALL),
+                                   doc="The aperture a pre-existing fracture's faces hold beyond their opening "
+                                       "(their roughness): the fluid a closed fracture holds. Wings, fresh cracks "
+                                       "whose faces mate, hold none. A fracture's volume is the integral of its "
+                                       "normal opening, wings included, plus (this + its `gap` on contact faces) "
+                                       "times its pre-existing length.")
+    initial_pressure: float = key(0.0, unit="Pa", range=NON_NEGATIVE, limit=Limit(hi=MAX_STRAIN, of="E", why=SMALL),
+                                  doc="p0: the pressure of the injected network at t = 0 (it holds its volume at "
+                                      "p0), and the density law's reference.")
+    end_time: float = key(None, unit="s", range=POSITIVE, default_doc="none",
+                          limit=Limit(hi=MAX_TIME, why="about 30,000 years"),
+                          doc="The run stops there (`stopped: end_time reached ...`), with a record of the state "
+                              "at that time, if propagation.steps do not end it first.")

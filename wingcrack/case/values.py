@@ -10,8 +10,8 @@ import math
 import numpy as np
 
 from wingcrack.case.bounds import MAX_ITEMS
-from wingcrack.case.keys import (BOOLEAN, INTEGER, NUMBER, POINT, POINTS, REQUIRED, STRING, TABLE, TABLES, Key,
-                                 Ref)
+from wingcrack.case.keys import (BOOLEAN, INTEGER, NUMBER, NUMBERS, POINT, POINTS, REQUIRED, STRING, TABLE,
+                                 TABLES, Key, Ref)
 from wingcrack.errors import CaseError
 
 def _scalar(v):
@@ -85,6 +85,14 @@ def _as_points(v, key: str) -> np.ndarray:
     return np.array(pts, dtype=float).reshape(-1, 2)
 
 
+def _as_numbers(v, key: str) -> tuple[float, ...]:
+    if not isinstance(v, list):
+        raise CaseError(key, f"expected an array of numbers, got {_what(v)}")
+    if len(v) > MAX_ITEMS:
+        raise CaseError(key, f"at most {MAX_ITEMS} numbers, got {len(v)}")
+    return tuple(_as_number(x, f"{key}[{i}]") for i, x in enumerate(v))
+
+
 def _as_tables(v, key: str) -> list[Table]:
     if not isinstance(v, list):
         raise CaseError(key, f"expected an array of tables ([[{key}]]), got {_what(v)}")
@@ -146,4 +154,4 @@ class Table:
 
 
 READERS = {NUMBER: _as_number, INTEGER: _as_integer, BOOLEAN: _as_boolean, STRING: _as_string, POINT: _as_point,
-            POINTS: _as_points, TABLE: Table, TABLES: _as_tables}
+            POINTS: _as_points, NUMBERS: _as_numbers, TABLE: Table, TABLES: _as_tables}

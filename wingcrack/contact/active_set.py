@@ -4,30 +4,32 @@ Wohlmuth 2005) on the small pair system.
 With the elasticity factorised, the jumps depend on the multipliers through
 the dense pair compliance S = B^T K^-1 B:
 
-    jump(mu) = jump0 + S mu
+    jump(forces) = jump0 + S forces
 
-Normal rows: gap function gamma = jump + g >= 0, mu >= 0, mu gamma = 0,
-rewritten as mu = max(0, mu - c gamma). Tangential rows (prescribed slip):
-jump = s, always. The active set A = {mu - c gamma > 0} is updated until it
+Normal rows: gap function gamma = jump + g >= 0, forces >= 0, forces gamma = 0,
+rewritten as forces = max(0, forces - c gamma). Tangential rows (prescribed slip):
+jump = s, always. The active set A = {forces - c gamma > 0} is updated until it
 repeats (converged); a set seen before that is not the last one is cycling.
 The method is not globally convergent for every SPD S (random 7x7 compliances
 cycle about once in a hundred); on cycling, or without convergence, the same
-problem is solved as the convex quadratic program it is (min 1/2 mu^T S mu -
-mu^T (target - jump0) with mu >= 0 on normal rows) by contact.box_qp, which
+problem is solved as the convex quadratic program it is (min 1/2 forces^T S forces -
+forces^T (target - jump0) with forces >= 0 on normal rows) by contact.box_qp, which
 terminates.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import ComputationError
+from .box_qp import solve_box_qp
 
 
 @dataclass
 class ActiveSetResult:
-    mu: np.ndarray          # (m,) multipliers (nodal forces, N/m)
+    forces: np.ndarray      # (m,) the row forces: the contact multipliers (nodal forces, N/m)
     jump: np.ndarray        # (m,) jumps (u+ - u-).v at the solution (m)
     active: np.ndarray      # (m,) bool: normal rows in contact
     iterations: int
@@ -36,20 +38,27 @@ class ActiveSetResult:
     jump0: np.ndarray = None  # (m,) jumps without pair forces
     fallback: bool = False    # solved by bounded least squares after the active set cycled
 
+    @property
+    def mu(self) -> np.ndarray:
+        """The former name of `forces` (deprecated)."""
+        warnings.warn("the contact result's .mu is deprecated: read .forces (the row forces, the contact "
+                      "multipliers)", DeprecationWarning, stacklevel=2)
+        return self.forces
+
     def kkt_residuals(self, gap, normal) -> dict:
         """Largest KKT violations on the normal rows, relative to the load
-        scale: the largest |mu| for forces, the largest jump without
+        scale: the largest |force| for forces, the largest jump without
         contact (or with it) for gaps."""
         normal = np.asarray(normal, bool)
         g = self.jump[normal] + gap[normal]
-        mu = self.mu[normal]
-        mscale = max(np.max(np.abs(self.mu), initial=0.0), 1e-300)
+        forces = self.forces[normal]
+        mscale = max(np.max(np.abs(self.forces), initial=0.0), 1e-300)
         jscale = max(np.max(np.abs(self.jump0), initial=0.0), np.max(np.abs(self.jump), initial=0.0),
                      np.max(np.abs(gap), initial=0.0), 1e-300)
         return {
             "feasibility": float(max(0.0, -np.min(g, initial=0.0)) / jscale),
-            "sign": float(max(0.0, -np.min(mu, initial=0.0)) / mscale),
-            "complementarity": float(np.max(np.abs(mu * g), initial=0.0) / (mscale * jscale)),
+            "sign": float(max(0.0, -np.min(forces, initial=0.0)) / mscale),
+            "complementarity": float(np.max(np.abs(forces * g), initial=0.0) / (mscale * jscale)),
         }
 
 
@@ -74,22 +83,22 @@ def solve_active_set(S, jump0, target, normal, c=None, active=None, max_iter=100
     history = []
     for it in range(1, max_iter + 1):
         rows = A | ~normal
-        mu = np.zeros(m)
+        forces = np.zeros(m)
         if rows.any():
             idx = np.flatnonzero(rows)
             try:
-                mu[idx] = np.linalg.solve(S[np.ix_(idx, idx)], target[idx] - jump0[idx])
+                forces[idx] = np.linalg.solve(S[np.ix_(idx, idx)], target[idx] - jump0[idx])
             except np.linalg.LinAlgError:
                 raise ComputationError("contact: the pair system is singular (a pair is held by a "
                                        "displacement condition on both faces?)") from None
-        jump = jump0 + S @ mu
+        jump = jump0 + S @ forces
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the active-set iteration")
         gamma = jump + gap
-        A_new = normal & (mu - c * gamma > 0)
+        A_new = normal & (forces - c * gamma > 0)
         history.append(int(A.sum()))
         if np.array_equal(A_new, A):
-            return ActiveSetResult(mu, jump, A, it, history, jump0)
+            return ActiveSetResult(forces, jump, A, it, history, jump0)
         key = A_new.tobytes()
         if key in seen:
             break  # cycling
@@ -99,21 +108,19 @@ def solve_active_set(S, jump0, target, normal, c=None, active=None, max_iter=100
 
 
 def _bounded_least_squares(S, jump0, target, normal, history) -> ActiveSetResult:
-    """The contact problem as min 1/2 mu^T S mu - mu^T (target - jump0), mu >= 0
+    """The contact problem as min 1/2 forces^T S forces - forces^T (target - jump0), forces >= 0
     on normal rows, free on tangential rows (its KKT conditions are the
     contact conditions), by contact.box_qp."""
-    from .box_qp import solve_box_qp
-
     lower = np.where(normal, 0.0, -np.inf)
     try:
         qp = solve_box_qp(S, target - jump0, lower, np.full(len(jump0), np.inf))
     except np.linalg.LinAlgError:
         raise ComputationError("contact: the pair system is singular (a pair is held by a "
                                "displacement condition on both faces?)") from None
-    mu = np.where(normal, np.maximum(qp.x, 0.0), qp.x)
-    jump = jump0 + S @ mu
+    forces = np.where(normal, np.maximum(qp.x, 0.0), qp.x)
+    jump = jump0 + S @ forces
     if not np.all(np.isfinite(jump)):
         raise ComputationError("contact: NaN in the contact solve")
-    active = normal & (mu > 0.0)
+    active = normal & (forces > 0.0)
     history.append(int(active.sum()))
-    return ActiveSetResult(mu, jump, active, len(history) + int(qp.steps), history, jump0, fallback=True)
+    return ActiveSetResult(forces, jump, active, len(history) + int(qp.steps), history, jump0, fallback=True)

@@ -8,7 +8,7 @@ H (m, m) SPD, bounds possibly infinite, G (m, r) of full column rank (r may
 be 0). In the pair problem x are the row multipliers (forces), H the pair
 compliance, the gradient H x - c the jumps minus their targets, and the
 equality's multipliers alpha the amplitudes of the rigid modes (jump = jump0
-+ S mu + G alpha): at the solution the stationarity H x - c + G alpha = g
++ S forces + G alpha): at the solution the stationarity H x - c + G alpha = g
 with g >= 0 where x is at its lower bound, <= 0 at its upper, 0 between.
 
 The box: Bertsekas' projected Newton method (SIAM J. Control Optim. 20,

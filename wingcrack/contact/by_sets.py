@@ -16,7 +16,7 @@ from .friction_sets import iterate_states, start_states, states_of
 def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, max_iter: int = MAX_ITERATIONS,
                   active=None, start: FrictionResult | None = None, respond=None) -> FrictionResult:
     """The contact problem where each state set is solved by `solve(A, T,
-    sign, C) -> (mu, jump)` (fem.pair_saddle: the elasticity whole, no
+    sign, C) -> (forces, jump)` (fem.pair_saddle: the elasticity whole, no
     dense compliance), with the complementarity parameters c0: the same
     three-state iteration, its scalings and its start. Where every scaling
     cycles, the cycle's rows are solved as a dense problem of their own
@@ -28,7 +28,7 @@ def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, ma
     P = PairProblem.of(None, jump0, target, normal, ~normal & ~coulomb, law, None)
     P.solve, P.c0 = solve, float(c0)
     history = []
-    if getattr(start, "state", None) is not None and len(start.mu) == len(P.jump0):
+    if getattr(start, "state", None) is not None and len(start.forces) == len(P.jump0):
         res = iterate_states(P, P.c0, P.c0, max_iter, history, states=start_states(start, P))
         if res is not None:
             return res
@@ -89,7 +89,7 @@ def _cycling_rows(P: PairProblem, respond, max_iter, history) -> FrictionResult 
         state = getattr(sub, "state", None)   # None: no Coulomb row among them (the frictionless result)
         if state is not None:
             T[rows] = np.where(sub_law.coulomb, state, OPEN)
-            sign[rows] = np.where(T[rows] == SLIP, np.sign(-sub.mu), 0.0)
+            sign[rows] = np.where(T[rows] == SLIP, np.sign(-sub.forces), 0.0)
             C[rows] = np.where(sub_law.coulomb, sub.cohesive, False)
         now = states_of(A, T, sign, C)[rows]
         if res is not None and np.array_equal(now, before):

@@ -12,10 +12,11 @@ Each pair (plus, minus) of coinciding nodes on the + and - faces gives
   fracture's friction coefficient and cohesion (wings: the same).
 Pairs on "open" faces carry no row. Tips are not pairs.
 
-Multipliers mu act as nodal forces +mu v on the + node and -mu v on the -
-node (v = n or t); mu >= 0 pushes the faces apart. Per unit length, the
-normal traction on the faces is sigma_nn = -mu / w_p, with w_p the integral
-of the node's P2 shape function along the face (its tributary length).
+The rows' forces (the contact multipliers) act as nodal forces +f v on the
++ node and -f v on the - node (v = n or t); f >= 0 pushes the faces apart.
+Per unit length, the normal traction on the faces is sigma_nn = -f / w_p,
+with w_p the integral of the node's P2 shape function along the face (its
+tributary length).
 """
 from __future__ import annotations
 
@@ -24,6 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 import wingcrack_kernels as K
+
+from ..face_law import FACES
 
 NORMAL, TANGENTIAL = 0, 1
 
@@ -42,7 +45,7 @@ class ConstraintRows:
     position: np.ndarray   # (m, 2)
     coulomb: np.ndarray = None    # (m,) bool: tangential rows under the friction law
     partner: np.ndarray = None    # (m,) a Coulomb row's normal row (-1 elsewhere)
-    friction: np.ndarray = None   # (m,) mu_f on Coulomb rows (0 elsewhere)
+    friction: np.ndarray = None   # (m,) the Coulomb coefficient on Coulomb rows (0 elsewhere)
     cohesion: np.ndarray = None   # (m,) c (Pa) on Coulomb rows (0 elsewhere)
 
     def __len__(self):
@@ -131,31 +134,51 @@ def _arc_length(p, pts) -> float:
     return float(np.sum(lengths[:seg]) + t * lengths[seg])
 
 
-def _part(fracture, position, tol):
-    """(faces, gap, slip-bearing polyline) of the part of `fracture` at
-    `position`: its pre-existing polyline, or a wing grown from it (wings:
-    fracture.wing_faces(), no gap, no slip). Case fractures have no wings."""
-    pre = getattr(fracture, "pre_points", None)
-    if pre is None:
-        return fracture.faces, fracture.gap, np.asarray(fracture.points, float)
-    if K.point_polyline_distance(np.asarray(position, float), pre) <= tol:
-        return fracture.faces, fracture.gap, pre
-    return fracture.wing_faces(), 0.0, None
+def _parts(fractures, position, pfrac, tol):
+    """(laws, lines, part): the face laws of the fractures' parts, laws[2 g]
+    fracture g's own (its pre-existing polyline, lines[2 g]) and laws[2 g
+    + 1] its wings' (law.wings(): no gap, no slip; lines[2 g + 1] None),
+    and part (p,) the part each pair at `position` (p, 2) of fracture pfrac
+    lies on: a case fracture has no wings; a growing one's pair lies on its
+    pre-existing polyline when within tol of it."""
+    laws, lines = [], []
+    part = 2 * pfrac
+    for g, f in enumerate(fractures):
+        law = f.law
+        pre = getattr(f, "pre_points", None)
+        laws += [law, law.wings()]
+        lines += [np.asarray(f.points if pre is None else pre, float), None]
+        if pre is not None:
+            mine = np.flatnonzero(pfrac == g)
+            part[mine[K.point_polyline_distances(position[mine], pre) > tol]] += 1
+    return laws, lines, part
 
 
-def slip_profile(fracture, position, pts=None) -> float:
-    """Prescribed slip (load factor 1) at `position` on `fracture`.
+def pre_existing_pairs(cm, fractures) -> np.ndarray:
+    """(p,) bool: the pairs of `cm` on the pre-existing part of their
+    fracture (not on a wing it grew), as _parts tells them."""
+    pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
+    pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
+    x = np.asarray(cm.x)
+    tol = 1e-9 * float(np.ptp(x, axis=0).max()) if len(x) else 0.0
+    return _parts(fractures, x[pairs[:, 0]], pfrac, tol)[2] % 2 == 0
 
-    "uniform": the value everywhere (a dislocation at the tips, as in the
+
+def slip_profile(law, position, pts) -> float:
+    """Prescribed slip (load factor 1) at `position` on the polyline `pts`
+    of faces under `law`.
+
+    "uniform": law.slip everywhere (a dislocation at the tips, as in the
     paper). "elliptic": slip * sqrt(1 - (xi/a)^2), xi the arc length from the
     fracture's middle and a its half-length: the slip of a crack under a
-    uniform shear stress drop tau, slip = (kappa + 1) tau a / (2 mu)."""
-    if fracture.slip_profile == "elliptic":
-        pts = np.asarray(fracture.points if pts is None else pts, float)
+    uniform shear stress drop tau, slip = (kappa + 1) tau a / (2 G), G the
+    shear modulus."""
+    if law.slip_profile == "elliptic":
+        pts = np.asarray(pts, float)
         L = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
         xi = _arc_length(position, pts) - L / 2
-        return fracture.slip * np.sqrt(max(0.0, 1.0 - (xi / (L / 2)) ** 2))
-    return fracture.slip
+        return law.slip * np.sqrt(max(0.0, 1.0 - (xi / (L / 2)) ** 2))
+    return law.slip
 
 
 #: normals closer to parallel than this (|sin|) add no second row: it would repeat the first
@@ -166,130 +189,133 @@ def _meeting_normals(cm, pairs, pfrac) -> dict:
     """{frozenset(plus, minus): [(fracture, unit left normal of its face,
     oriented from minus to plus)]} for the pairs whose two nodes are held by
     the faces of more than one fracture (fractures met end to end), the
-    pair's own fracture first."""
+    fracture of the pair listed last for those nodes first. Only the face
+    edges at nodes that faces of two fractures hold are looked at, one by
+    one (few: where fractures meet)."""
     x = np.asarray(cm.x)
     plus_e = np.asarray(cm.crack_edges, dtype=np.int64).reshape(-1, 3)
     minus_e = np.asarray(cm.crack_edges_minus, dtype=np.int64).reshape(-1, 3)
     efrac = np.asarray(cm.crack_fracture, dtype=np.int64)
+    shared = _shared_nodes(np.concatenate([plus_e[:, :2], minus_e[:, :2]]), np.tile(efrac, 2), len(x))
     touching: dict = {}   # node -> {fracture: (side, left normal)}
-    for e in range(len(plus_e)):
+    for e in np.flatnonzero(shared[plus_e[:, :2]].any(axis=1) | shared[minus_e[:, :2]].any(axis=1)):
         d = x[plus_e[e, 1]] - x[plus_e[e, 0]]
         n = np.array([-d[1], d[0]]) / np.linalg.norm(d)
         for side, edge in ((1.0, plus_e[e]), (-1.0, minus_e[e])):
             for v in edge[:2]:
                 touching.setdefault(int(v), {})[int(efrac[e])] = (side, n)
     out = {}
-    for i, (a, b) in enumerate(pairs):   # nodes a (plus) and b (minus)
+    for i in np.flatnonzero(shared[pairs].all(axis=1)):   # nodes a (plus) and b (minus)
+        a, b = pairs[i]
         ta, tb = touching.get(int(a), {}), touching.get(int(b), {})
-        shared = sorted(g for g in set(ta) & set(tb) if ta[g][0] != tb[g][0])
-        if len(shared) > 1:   # the own fracture first
-            shared.sort(key=lambda g: g != pfrac[i])
-            out[frozenset((int(a), int(b)))] = [(g, ta[g][0] * ta[g][1]) for g in shared]
+        held = sorted(g for g in set(ta) & set(tb) if ta[g][0] != tb[g][0])
+        if len(held) > 1:   # the own fracture first
+            held.sort(key=lambda g: g != pfrac[i])
+            out[frozenset((int(a), int(b)))] = [(g, ta[g][0] * ta[g][1]) for g in held]
     return out
 
 
-def _junction_pairs(pairs, pfrac) -> set:
-    """Pairs with a node copy that pairs of another fracture share: at a
-    T-junction the host's two pairs there and the joining fracture's (whose
-    jump is the difference of the host's two), where fractures meet end to
-    end the one pair of both. There the jumps have fewer independent
-    components than the pairs have normal and tangential rows, so a Coulomb
-    pair there keeps its normal row only (non-penetration stays on every
-    face; the junction node itself slides without friction): with all rows
-    the pair system is singular once they are all closed, and with the
-    joining pair's rows dropped instead its faces interpenetrate at the
-    junction while the host's slip."""
-    owners = {}
-    for i, (a, b) in enumerate(pairs):
-        for v in (int(a), int(b)):
-            owners.setdefault(v, set()).add(int(pfrac[i]))
-    return {i for i, (a, b) in enumerate(pairs) if len(owners[int(a)]) > 1 or len(owners[int(b)]) > 1}
+def _shared_nodes(nodes, owner, num_nodes) -> np.ndarray:
+    """(num_nodes,) bool: the nodes that the rows of `nodes` (k, c) of more
+    than one owner (k,) hold."""
+    held = np.unique(np.stack([nodes.ravel(), np.repeat(owner, nodes.shape[1])], axis=1), axis=0)
+    return np.bincount(held[:, 0], minlength=num_nodes) > 1
+
+
+def _junction_pairs(pairs, pfrac, num_nodes) -> np.ndarray:
+    """(p,) bool: the pairs with a node copy that pairs of another fracture
+    share: at a T-junction the host's two pairs there and the joining
+    fracture's (whose jump is the difference of the host's two), where
+    fractures meet end to end the one pair of both. There the jumps have
+    fewer independent components than the pairs have normal and tangential
+    rows, so a Coulomb pair there keeps its normal row only
+    (non-penetration stays on every face; the junction node itself slides
+    without friction): with all rows the pair system is singular once they
+    are all closed, and with the joining pair's rows dropped instead its
+    faces interpenetrate at the junction while the host's slip."""
+    return _shared_nodes(pairs, pfrac, num_nodes)[pairs].any(axis=1)
+
+
+_FACE_CODE = {name: code for code, name in enumerate(FACES)}
+_OPEN, _SLIP, _COULOMB = _FACE_CODE["open"], _FACE_CODE["slip"], _FACE_CODE["coulomb"]
 
 
 def constraint_rows(cm, fractures) -> ConstraintRows:
-    """Rows for every pair of the CrackMesh `cm`; `fractures` are the case's
-    Fracture objects (faces, gap, slip, slip_profile) or the propagation's
-    GrowingFracture objects (whose wings get their own faces), in mesh order."""
+    """Rows for every pair of the CrackMesh `cm`; `fractures`, in mesh
+    order, are the case's Fracture objects or the propagation's
+    GrowingFracture objects (whose wings get their own faces): what is read
+    of each is its face law (`law`, wingcrack.face_law.FaceLaw) and its
+    polylines.
+
+    A pair's rows: a normal row (where fractures meet end to end, one per
+    fracture's normal that is not parallel to another's), then, on "slip"
+    faces, the prescribed tangential row, on "coulomb" faces away from
+    junctions the friction row."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     normals = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
     w_pair = pair_tributary_lengths(cm, pfrac)
-    rows = {k: [] for k in ("plus", "minus", "direction", "kind", "pair", "fracture", "gap", "slip", "weight", "position",
-                            "coulomb", "partner", "friction", "cohesion")}
-
-    def add(i, v, kind, gap, slip, weight=None, law=None):
-        """law: (normal row, friction, cohesion) of a Coulomb row."""
-        plus, minus = pairs[i]
-        rows["plus"].append(plus)
-        rows["minus"].append(minus)
-        rows["direction"].append(v)
-        rows["kind"].append(kind)
-        rows["pair"].append(i)
-        rows["fracture"].append(pfrac[i])
-        rows["gap"].append(gap)
-        rows["slip"].append(slip)
-        rows["weight"].append(w_pair[i] if weight is None else weight)
-        rows["position"].append(cm.x[plus])
-        rows["coulomb"].append(law is not None)
-        rows["partner"].append(-1 if law is None else law[0])
-        rows["friction"].append(0.0 if law is None else law[1])
-        rows["cohesion"].append(0.0 if law is None else law[2])
-
     x = np.asarray(cm.x)
     tol = 1e-9 * float(np.ptp(x, axis=0).max()) if len(x) else 0.0
-    parts = [_part(fractures[pfrac[i]], x[pairs[i, 0]], tol) for i in range(len(pairs))]
+    laws, lines, part = _parts(fractures, x[pairs[:, 0]], pfrac, tol)
+    faces = np.array([_FACE_CODE[law.faces] for law in laws], dtype=np.int64)[part] if len(laws) else part
     # At a T-junction a node copy belongs to pairs of two fractures. If the
     # host prescribes slip there, the joining fracture's own pair would repeat
     # a combination of the host's rows (a singular pair system): it gets none.
-    slip_nodes = {int(v) for i, part in enumerate(parts) if part[0] == "slip" for v in pairs[i]}
-    junction = _junction_pairs(pairs, pfrac)
+    on_slip = np.zeros(len(x), bool)
+    on_slip[pairs[faces == _SLIP].ravel()] = True
+    keep = (faces != _OPEN) & ((faces == _SLIP) | ~on_slip[pairs].any(axis=1))
     # Where two fractures meet end to end, both own the same two node copies:
-    # one pair (the first); its rows get each fracture's normal (unless
+    # one pair (the first) gets rows; they get each fracture's normal (unless
     # parallel), since the copies must not overlap across either face.
-    seen, meeting = set(), _meeting_normals(cm, pairs, pfrac)
+    kept = np.flatnonzero(keep)
+    if len(kept):
+        _, first = np.unique(np.sort(pairs[kept], axis=1), axis=0, return_index=True)
+        kept = np.sort(kept[first])
+    n = normals[kept]   # the normal each kept pair's tangential row turns
+    tangential = (faces[kept] == _SLIP) | ((faces[kept] == _COULOMB) & ~_junction_pairs(pairs, pfrac, len(x))[kept])
+    n_normal = np.ones(len(kept), dtype=np.int64)
+    used = {}   # kept pair -> [(normal, weight)] of its rows where fractures meet end to end
     w_of = {}   # fracture -> pair lengths over its faces only (meeting nodes)
-    for i in range(len(pairs)):
-        f = fractures[pfrac[i]]
-        faces, gap, pts = parts[i]
-        if faces == "open" or (faces != "slip" and slip_nodes.intersection(pairs[i].tolist())):
-            continue
-        key = frozenset(pairs[i].tolist())
-        if key in seen:
-            continue
-        seen.add(key)
-        n = normals[i]
-        if key in meeting:
-            # fractures meeting end to end: a row per fracture's own normal (the
-            # pair's normal is their average), each with its own face length
-            used = []
-            for g, n_g in meeting[key]:
-                if all(abs(n_g[0] * u[1] - n_g[1] * u[0]) > PARALLEL for u in used):
-                    used.append(n_g)
+    ends = np.sort(pairs[kept], axis=1)
+    for key, held in _meeting_normals(cm, pairs, pfrac).items():
+        for j in np.flatnonzero((ends[:, 0] == min(key)) & (ends[:, 1] == max(key))):
+            i, rows = kept[j], []
+            for g, n_g in held:
+                if all(abs(n_g[0] * u[1] - n_g[1] * u[0]) > PARALLEL for u, _ in rows):
                     if g not in w_of:
                         w_of[g] = pair_tributary_lengths(cm, np.full(len(pairs), g))
-                    add(i, n_g, NORMAL, gap, 0.0, weight=w_of[g][i])
-            n = used[0]
-            first = len(rows["plus"]) - len(used)
-            if len(used) > 1:
-                # two normals that are not parallel fix both components of the jump when closed: a
-                # tangential row would repeat them (a singular pair system where the fractures meet
-                # at a right angle, t of one being n of the other); the meeting node slides without
-                # friction, as a T-junction's does
-                continue
-        else:
-            first = len(rows["plus"])
-            add(i, n, NORMAL, gap, 0.0)
-        t = np.array([n[1], -n[0]])
-        if faces == "slip":
-            add(i, t, TANGENTIAL, 0.0, slip_profile(f, x[pairs[i, 0]], pts))
-        elif faces == "coulomb" and i not in junction:
-            add(i, t, TANGENTIAL, 0.0, 0.0, law=(first, float(f.friction), float(f.cohesion)))
-    m = len(rows["plus"])
+                    rows.append((n_g, w_of[g][i]))
+            used[j], n[j], n_normal[j] = rows, rows[0][0], len(rows)
+            # two normals that are not parallel fix both components of the jump when closed: a tangential
+            # row would repeat them (a singular pair system where the fractures meet at a right angle, t of
+            # one being n of the other); the meeting node slides without friction, as a T-junction's does
+            tangential[j] &= len(rows) == 1
+    # the rows: per kept pair its normal rows, then its tangential row
+    count = n_normal + tangential
+    start = np.cumsum(count) - count   # the pair's first (normal) row
+    pair = np.repeat(kept, count)
+    normal = np.arange(len(pair)) - np.repeat(start, count) < np.repeat(n_normal, count)
+    direction = normals[pair]
+    direction[~normal] = np.stack([n[tangential, 1], -n[tangential, 0]], axis=1)
+    weight = w_pair[pair]
+    for j, rows in used.items():
+        direction[start[j]:start[j] + len(rows)] = [v for v, _ in rows]
+        weight[start[j]:start[j] + len(rows)] = [w for _, w in rows]
+    row_part = part[pair]
+    law_of = np.array([[law.gap, law.friction, law.cohesion, law.slip] for law in laws]).reshape(-1, 4)[row_part]
+    code = faces[pair]
+    coulomb = ~normal & (code == _COULOMB)
+    slip = np.zeros(len(pair))
+    prescribed = np.flatnonzero(~normal & (code == _SLIP))
+    slip[prescribed] = law_of[prescribed, 3]
+    elliptic = np.array([law.slip_profile == "elliptic" for law in laws], bool)
+    for r in prescribed[elliptic[row_part[prescribed]]]:   # the arc length of each along its fracture
+        slip[r] = slip_profile(laws[row_part[r]], x[pairs[pair[r], 0]], lines[row_part[r]])
     return ConstraintRows(
-        plus=np.array(rows["plus"], dtype=np.int64), minus=np.array(rows["minus"], dtype=np.int64),
-        direction=np.array(rows["direction"], float).reshape(m, 2), kind=np.array(rows["kind"], dtype=np.int8),
-        pair=np.array(rows["pair"], dtype=np.int64), fracture=np.array(rows["fracture"], dtype=np.int64),
-        gap=np.array(rows["gap"], float), slip=np.array(rows["slip"], float),
-        weight=np.array(rows["weight"], float), position=np.array(rows["position"], float).reshape(m, 2),
-        coulomb=np.array(rows["coulomb"], bool), partner=np.array(rows["partner"], dtype=np.int64),
-        friction=np.array(rows["friction"], float), cohesion=np.array(rows["cohesion"], float))
+        plus=pairs[pair, 0], minus=pairs[pair, 1], direction=direction,
+        kind=np.where(normal, NORMAL, TANGENTIAL).astype(np.int8), pair=pair,
+        fracture=pfrac[pair], gap=np.where(normal, law_of[:, 0], 0.0), slip=slip, weight=weight,
+        position=x[pairs[pair, 0]].reshape(-1, 2), coulomb=coulomb,
+        partner=np.where(coulomb, np.repeat(start, count), -1),
+        friction=np.where(coulomb, law_of[:, 1], 0.0), cohesion=np.where(coulomb, law_of[:, 2], 0.0))

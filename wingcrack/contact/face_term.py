@@ -8,7 +8,7 @@ interaction integral needs
 t being the force per length on each face's own body, in the tip frame.
 On the faces (theta = +-pi) du^a/dx1 = -du^a/dr, with (K^a = 1)
     mode I:  du^a/dx1 = (0, -+ c / sqrt r),   mode II: (-+ c / sqrt r, 0),
-    c = (kappa + 1) / (4 mu sqrt(2 pi)),  upper sign on the upper face.
+    c = (kappa + 1) / (4 G sqrt(2 pi)),  G the shear modulus, upper sign on the upper face.
 The traction comes from the pair forces (nodal forces) through the face's
 consistent P2 mass matrix, t = M^-1 F; the integrals use the isoparametric
 map of each face edge, so on the quarter-point edges next to the tip
@@ -26,7 +26,7 @@ _N = np.stack([(1 - _S) * (1 - 2 * _S), _S * (2 * _S - 1), 4 * _S * (1 - _S)])  
 _DN = np.stack([4 * _S - 3, 4 * _S - 1, 4 - 8 * _S])
 
 
-def face_term(x, edges, forces, tip, ex, ey, r_in, r_out, mu, kappa) -> tuple[float, float]:
+def face_term(x, edges, forces, tip, ex, ey, r_in, r_out, shear_modulus, kappa) -> tuple[float, float]:
     """int t . du^a/dx1 q ds over the face edges `edges` (k, 3) [a, b, mid]
     of one face, for the mode I and mode II auxiliary fields.
 
@@ -57,7 +57,7 @@ def face_term(x, edges, forces, tip, ex, ey, r_in, r_out, mu, kappa) -> tuple[fl
     dv = np.hypot(*(x[edges[:, :2]] - np.asarray(tip, float)).transpose(2, 0, 1))   # (k, 2)
     qv = np.clip((r_out - dv) / (r_out - r_in), 0.0, 1.0)
     q = qv[:, :1] * (1 - _S) + qv[:, 1:] * _S          # (k, q) P1 along the edge
-    c = (kappa + 1) / (4 * mu * np.sqrt(2 * np.pi))
+    c = (kappa + 1) / (4 * shear_modulus * np.sqrt(2 * np.pi))
     g = c / np.sqrt(np.maximum(r, 1e-300))              # magnitude of du^a/dx1
     tq = np.einsum("iq,kid->kqd", _N, t_nodes[local])   # (k, q, 2)
     w = jac * _W * q * g

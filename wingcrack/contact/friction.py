@@ -3,24 +3,24 @@ states a pair (open, stick, slip), the semi-smooth Newton method of Hueber,
 Stadler & Wohlmuth (2008) written for 2D, where the tangential space of a
 pair is one line and the slip direction one sign.
 
-With the elasticity factorised, jumps depend on the row multipliers mu
-(nodal forces; + on the + node) through the dense pair compliance S, and,
-where a piece of the body is held by contact alone, on the amplitudes alpha
-of its rigid-body modes (their jumps G):
+With the elasticity factorised, jumps depend on the row forces (the
+contact multipliers: nodal forces, + on the + node) through the dense pair
+compliance S, and, where a piece of the body is held by contact alone, on
+the amplitudes alpha of its rigid-body modes (their jumps G):
 
-    jump(mu, alpha) = jump0 + S mu + G alpha,    G^T mu + e = 0,
+    jump(forces, alpha) = jump0 + S forces + G alpha,    G^T forces + e = 0,
 
 the second the piece's equilibrium (e: its other loads as generalised forces
 on the modes; FETI's coarse problem). Without such pieces G has no columns.
 
-Rows: normal rows (w + g >= 0, mu_n >= 0, mu_n (w + g) = 0), prescribed
+Rows: normal rows (w + g >= 0, forces_n >= 0, forces_n (w + g) = 0), prescribed
 tangential rows ("slip" faces: jump = target) and Coulomb tangential rows
 paired with their normal row p. On a Coulomb row the friction law acts on
 the slip increment ds = s - s_ref from the last converged state s_ref:
 
-    |mu_t| <= F = c w_p + mu_f mu_n                (bound; forces; c only while touching)
-    |mu_t| <  F  ->  ds = 0                         (stick)
-    |mu_t| =  F  ->  mu_t ds <= 0                   (slip, against the increment)
+    |forces_t| <= F = c w_p + friction forces_n     (bound; forces; c only while touching)
+    |forces_t| <  F  ->  ds = 0                      (stick)
+    |forces_t| =  F  ->  forces_t ds <= 0            (slip, against the increment)
 
 Cohesion is held by faces that touch. Whether faces carrying no normal force
 touch is a question of a tolerance: under pure shear a straight crack on a
@@ -36,9 +36,9 @@ to 0 as the faces part: the earlier fixed point alternated between the two
 forever); there the pair's bond breaks: it keeps its friction and loses its
 cohesion for the solve (FrictionResult.broken counts such pairs).
 
-With lam = -mu_t the update of a closed pair's state is
-    z = lam + c_t ds;  |z| > F: slip with sign(z), lam = F sign(z); else stick,
-and F from the normal predictor mu_n - c_n (w + g) (Hueber et al.); a pair
+With q = -forces_t the update of a closed pair's state is
+    z = q + c_t ds;  |z| > F: slip with sign(z), q = F sign(z); else stick,
+and F from the normal predictor forces_n - c_n (w + g) (Hueber et al.); a pair
 holds its cohesion in the next set where it is predicted closed or its
 opening is below 1.5 tol. For a state set the equations are linear (in 2D
 the slip direction is a sign, not a unit vector to linearise), so every
@@ -97,7 +97,7 @@ def solve_friction(S, jump0, target, normal, law: FrictionRows, max_iter: int = 
             return res
     cn, ct = complementarity_parameters(P)
     history = []
-    if getattr(start, "state", None) is not None and len(start.mu) == len(P.jump0):
+    if getattr(start, "state", None) is not None and len(start.forces) == len(P.jump0):
         res = iterate_states(P, cn, ct, max_iter, history, states=start_states(start, P))
         if res is not None:
             return held(P, res)

@@ -66,9 +66,9 @@ def fixed_point_solve(S, jump0, target, normal, prescribed, law, history, rigid:
 
 def fixed_point(P: PairProblem, history, C) -> FrictionResult:
     """Coulomb friction as a fixed point on the friction bound F = c w_p
-    [cohesive] + mu_f mu_n: each iterate is Tresca friction with the bound
-    of the last forces, the convex problem min 1/2 mu^T S mu - mu^T (target
-    - jump0) with mu_n >= 0, -F <= mu_t <= F and the pieces' equilibrium (its
+    [cohesive] + friction forces_n: each iterate is Tresca friction with the bound
+    of the last forces, the convex problem min 1/2 forces^T S forces - forces^T (target
+    - jump0) with forces_n >= 0, -F <= forces_t <= F and the pieces' equilibrium (its
     KKT conditions: contact, stick inside the box, slip against the
     increment on its faces), by contact.box_qp; the update of the bound is
     relaxed (damped) where successive iterates oscillate."""
@@ -80,24 +80,24 @@ def fixed_point(P: PairProblem, history, C) -> FrictionResult:
     lo = np.where(normal, 0.0, -np.inf)
     hi = np.full(m, np.inf)
     F = b0.copy()
-    mu, alpha = np.zeros(m), np.zeros(P.G.shape[1])
+    forces, alpha = np.zeros(m), np.zeros(P.G.shape[1])
     theta, last = 1.0, np.inf
     steps = 0
     for _ in range(FIXED_POINT_ITERATIONS):
         lo[ci], hi[ci] = -F, F
         try:
-            qp = solve_box_qp(S, target - jump0, lo, hi, P.G if P.G.shape[1] else None, P.e, x0=mu, alpha0=alpha)
+            qp = solve_box_qp(S, target - jump0, lo, hi, P.G if P.G.shape[1] else None, P.e, x0=forces, alpha0=alpha)
         except Infeasible as err:
             raise Mechanism(err.residual) from None
-        mu, alpha = qp.x, qp.alpha
+        forces, alpha = qp.x, qp.alpha
         steps += qp.steps
-        jump = jump0 + S @ mu + P.G @ alpha
+        jump = jump0 + S @ forces + P.G @ alpha
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction solve")
-        history.append(int(np.sum(normal & (mu > 0))))
-        F_new = b0 + f * np.maximum(mu[pi], 0.0)
+        history.append(int(np.sum(normal & (forces > 0))))
+        F_new = b0 + f * np.maximum(forces[pi], 0.0)
         change = float(np.max(np.abs(F_new - F), initial=0.0))
-        fscale = max(float(np.max(np.abs(mu), initial=0.0)), 1e-300)
+        fscale = max(float(np.max(np.abs(forces), initial=0.0)), 1e-300)
         if change <= FIXED_POINT_RTOL * fscale:
             break
         if change >= last:   # oscillating: relax the update
@@ -107,7 +107,7 @@ def fixed_point(P: PairProblem, history, C) -> FrictionResult:
     else:
         raise ComputationError(f"contact: friction: the fixed point on the friction bound did not converge in "
                                f"{FIXED_POINT_ITERATIONS} iterations")
-    A = normal & (mu > 0.0)
+    A = normal & (forces > 0.0)
     T = np.full(m, OPEN, np.int8)
     T[ci] = np.where(A[pi] | (C[ci] & (b0 > 0)), STICK, OPEN)
-    return result_of(P, mu, alpha, jump, A, T, C, history, fallback=True, iterations=len(history) + steps)
+    return result_of(P, forces, alpha, jump, A, T, C, history, fallback=True, iterations=len(history) + steps)

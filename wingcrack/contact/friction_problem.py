@@ -49,7 +49,7 @@ class Mechanism(ComputationError):
 class FrictionRows:
     """What the friction law needs of the rows (m = rows): coulomb (m,) bool,
     the Coulomb tangential rows; partner (m,) their pair's normal row (-1
-    elsewhere); friction (m,) mu_f; cohesion_force (m,) c times the pair's
+    elsewhere); friction (m,) the Coulomb coefficient; cohesion_force (m,) c times the pair's
     tributary length (N/m; the bound's cohesion part as a force)."""
     coulomb: np.ndarray
     partner: np.ndarray
@@ -61,7 +61,7 @@ class FrictionRows:
 class Rigid:
     """The rigid modes of the pieces only contact holds: G (m, r) their
     jumps per unit amplitude, e (r,) the other loads' generalised forces on
-    them (equilibrium: G^T mu + e = 0); e_scale (r,) the sum of the
+    them (equilibrium: G^T forces + e = 0); e_scale (r,) the sum of the
     magnitudes of the terms of e (its round-off is ~1e-16 of that)."""
     G: np.ndarray
     e: np.ndarray
@@ -88,10 +88,10 @@ class FrictionResult(ActiveSetResult):
     def bound(self) -> np.ndarray:
         """(m,) the friction bound F (forces) on Coulomb rows (0 elsewhere)."""
         law = self.law
-        F = np.zeros(len(self.mu))
+        F = np.zeros(len(self.forces))
         i = np.flatnonzero(law.coulomb)
         F[i] = np.where(self.cohesive[i], law.cohesion_force[i], 0.0) + \
-            law.friction[i] * np.maximum(self.mu[law.partner[i]], 0.0)
+            law.friction[i] * np.maximum(self.forces[law.partner[i]], 0.0)
         return F
 
     def slip_increment(self) -> np.ndarray:
@@ -100,25 +100,25 @@ class FrictionResult(ActiveSetResult):
 
     def friction_residuals(self, weight) -> dict:
         """Largest violations of the friction law, relative: tractions to the
-        largest row traction |mu| / weight, increments to the jump scale;
+        largest row traction |forces| / weight, increments to the jump scale;
         "touch": the largest opening of a pair that holds cohesion beyond
         2 tol (relative to tol; 0 where the law holds)."""
         law = self.law
         w = np.maximum(np.asarray(weight, float), 1e-300)
-        t = np.abs(self.mu) / w
+        t = np.abs(self.forces) / w
         tscale = max(np.max(t, initial=0.0), 1e-300)
         ds = self.slip_increment()
         jscale = max(np.max(np.abs(self.jump0), initial=0.0), np.max(np.abs(self.jump), initial=0.0), 1e-300)
         c = law.coulomb
         F = self.bound()
-        over = (np.abs(self.mu) - F) / w
+        over = (np.abs(self.forces) - F) / w
         slip, stick = c & (self.state == SLIP), c & (self.state == STICK)
         i = np.flatnonzero(c & self.cohesive & (law.cohesion_force > 0))
         opening = (self.jump - self.reference)[law.partner[i]]
         return {
             "bound": float(max(0.0, np.max(over[c], initial=0.0)) / tscale),
             "at_bound": float(np.max(np.abs(over[slip]), initial=0.0) / tscale),
-            "direction": float(max(0.0, np.max(self.mu[slip] / w[slip] * ds[slip], initial=0.0)) / (tscale * jscale)),
+            "direction": float(max(0.0, np.max(self.forces[slip] / w[slip] * ds[slip], initial=0.0)) / (tscale * jscale)),
             "stick_increment": float(np.max(np.abs(ds[stick & (F > 0)]), initial=0.0) / jscale),
             "touch": float(max(0.0, np.max(opening, initial=0.0) - 2 * self.touch) / max(self.touch, 1e-300)),
         }
@@ -137,7 +137,7 @@ class PairProblem:
     e: np.ndarray      # (r,)
     touch: float
     e_scale: np.ndarray = None   # (r,)
-    #: the solve of one state set, where S is not at hand (fem.pair_saddle): (A, T, sign, C) -> (mu, jump)
+    #: the solve of one state set, where S is not at hand (fem.pair_saddle): (A, T, sign, C) -> (forces, jump)
     solve: object = None
     c0: float = None   # the complementarity parameters' scale without S (N/m per m)
     last_states: tuple = None   # (A, T, sign) the last iteration reached (where it cycled)
@@ -175,13 +175,13 @@ def complementarity_parameters(P: PairProblem):
     return cn, ct
 
 
-def result_of(P: PairProblem, mu, alpha, jump, A, T, C, history, fallback, iterations=None, broken=0) -> FrictionResult:
+def result_of(P: PairProblem, forces, alpha, jump, A, T, C, history, fallback, iterations=None, broken=0) -> FrictionResult:
     """The FrictionResult of a solution; a pair that touches and holds its
     cohesion without a normal force counts as closed."""
     ci, pi = P.ci, P.pi
     active = np.array(A, bool)
     active[pi[T[ci] != OPEN]] = True
-    res = FrictionResult(mu, jump, active & P.normal, len(history) if iterations is None else iterations, history,
+    res = FrictionResult(forces, jump, active & P.normal, len(history) if iterations is None else iterations, history,
                          P.jump0, fallback=fallback, state=T, reference=P.target.copy(), law=P.law,
                          cohesive=np.array(C, bool), touch=P.touch, broken=int(broken), alpha=np.asarray(alpha, float))
     res.state = _labels(res)
@@ -198,6 +198,6 @@ def _labels(res: FrictionResult) -> np.ndarray:
     ci = np.flatnonzero(res.law.coulomb)
     closed = out[ci] != OPEN
     F = res.bound()[ci]
-    at = np.abs(res.mu[ci]) >= F * (1 - BOUND_RTOL)
+    at = np.abs(res.forces[ci]) >= F * (1 - BOUND_RTOL)
     out[ci] = np.where(closed, np.where(at, SLIP, STICK), OPEN)
     return out

@@ -21,7 +21,7 @@ def start_states(start: FrictionResult, P: PairProblem) -> tuple:
     ci = P.ci
     T = np.full(len(A), OPEN, np.int8)
     sign = np.zeros(len(A))
-    s = np.sign(-start.mu[ci])
+    s = np.sign(-start.forces[ci])
     closed = start.state[ci] != OPEN
     slip = (start.state[ci] == SLIP) & (s != 0)
     T[ci] = np.where(closed, np.where(slip, SLIP, STICK), OPEN)
@@ -39,7 +39,7 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
     (m,) rows whose states (and C_start's touching flags) stay those of the
     start (_cycling_rows: solved on their own). trial: without `states`,
     the closed pairs start in the states the update gives the iterate of
-    no pair forces (mu = 0, the jumps jump0: slipping where the trial force
+    no pair forces (forces = 0, the jumps jump0: slipping where the trial force
     c_t ds exceeds the bound c_n f (g - w) of the penetration), instead of
     all sticking: the iterate the start comes from anyway, one set fewer
     where a set costs a factorisation (contact.by_sets)."""
@@ -78,19 +78,19 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
     alpha_last = None
     for it in range(1, max_iter + 1):
         if P.solve is not None:
-            mu, jump = P.solve(A, T, sign, C)
+            forces, jump = P.solve(A, T, sign, C)
             alpha = np.zeros(0)
         else:
             sol = solve_state_set(P, A, T, sign, C, alpha_last)
             if sol is None:
                 return None
-            mu, alpha = sol
+            forces, alpha = sol
             alpha_last = alpha
-            jump = jump0 + S @ mu + P.G @ alpha
+            jump = jump0 + S @ forces + P.G @ alpha
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction iteration")
         history.append(int(A.sum()))
-        A_new, T_new, sign_new, C_new = _next_states(P, mu, jump, A, T, sign, C, cn, ct, cohesive)
+        A_new, T_new, sign_new, C_new = _next_states(P, forces, jump, A, T, sign, C, cn, ct, cohesive)
         if frozen is not None:
             A_new, T_new = np.where(frozen, A, A_new), np.where(frozen, T, T_new)
             sign_new, C_new = np.where(frozen, sign, sign_new), np.where(frozen, C, C_new)
@@ -98,11 +98,11 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
                 np.array_equal(C_new, C):
             eq = A | P.prescribed | (coulomb & (T == STICK))
             res = np.max(np.abs((jump - target)[eq]), initial=0.0)
-            if P.G.shape[1] and not _balanced(P, mu):
+            if P.G.shape[1] and not _balanced(P, forces):
                 return None   # a least-squares set (a piece its closed pairs leave free) that no force balances
             if res <= RESIDUAL_RTOL * max(load, np.max(np.abs(jump), initial=0.0)):
                 P.last_states, P.last_C = (A, T, sign), C
-                return result_of(P, mu, alpha, jump, A, T, C, history, fallback=fixed)
+                return result_of(P, forces, alpha, jump, A, T, C, history, fallback=fixed)
             return None
         key = _key(A_new, T_new, sign_new, C_new)
         P.last_states = (A_new, T_new, sign_new)
@@ -117,26 +117,26 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
     return None
 
 
-def _next_states(P: PairProblem, mu, jump, A, T, sign, C, cn, ct, cohesive):
-    """(A, T, sign, C) of the next set from an iterate (mu, jump) of the set
+def _next_states(P: PairProblem, forces, jump, A, T, sign, C, cn, ct, cohesive):
+    """(A, T, sign, C) of the next set from an iterate (forces, jump) of the set
     (A, T, sign, C): the semi-smooth Newton update (see the module), the
     touching flags fixed where `cohesive` is given."""
-    m = len(mu)
+    m = len(forces)
     ci, pi = P.ci, P.pi
     f = np.asarray(P.law.friction, float)
     b0 = np.asarray(P.law.cohesion_force, float)
     cohesion = b0[ci] > 0
     target = P.target
     gamma = jump - target                     # on normal rows: w + g
-    A_new = P.normal & (mu - cn * gamma > 0)
+    A_new = P.normal & (forces - cn * gamma > 0)
     C_new = C.copy()
     if cohesive is None:
         C_new[ci] = (A_new[pi] | (gamma[pi] <= 1.5 * P.touch)) & cohesion
     T_new = np.full(m, OPEN, np.int8)
     sign_new = np.zeros(m)
-    F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(mu[pi] - cn * gamma[pi], 0.0)
-    z = -mu[ci] + ct * (jump[ci] - target[ci])
-    band = STATE_BAND * max(np.max(np.abs(mu), initial=0.0), 1e-300)
+    F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(forces[pi] - cn * gamma[pi], 0.0)
+    z = -forces[ci] + ct * (jump[ci] - target[ci])
+    band = STATE_BAND * max(np.max(np.abs(forces), initial=0.0), 1e-300)
     slipping = np.abs(z) > F + band
     direction = np.sign(z)
     # a slipping pair sticks again only when its increment turns against its direction by more than the
@@ -154,10 +154,10 @@ def _next_states(P: PairProblem, mu, jump, A, T, sign, C, cn, ct, cohesive):
     return A_new, T_new, sign_new, C_new
 
 
-def _balanced(P: PairProblem, mu) -> bool:
-    """Whether the pieces' equilibrium G^T mu + e = 0 holds to round-off."""
-    terms = np.abs(P.G).T @ np.abs(mu) + (np.abs(P.e) if P.e_scale is None else P.e_scale)
-    return bool(np.all(np.abs(P.G.T @ mu + P.e) <= RESIDUAL_RTOL * np.maximum(terms, 1e-300)))
+def _balanced(P: PairProblem, forces) -> bool:
+    """Whether the pieces' equilibrium G^T forces + e = 0 holds to round-off."""
+    terms = np.abs(P.G).T @ np.abs(forces) + (np.abs(P.e) if P.e_scale is None else P.e_scale)
+    return bool(np.all(np.abs(P.G.T @ forces + P.e) <= RESIDUAL_RTOL * np.maximum(terms, 1e-300)))
 
 
 def states_of(A, T, sign, C) -> np.ndarray:
@@ -170,9 +170,9 @@ def _key(A, T, sign, C) -> bytes:
 
 
 def solve_state_set(P: PairProblem, A, T, sign, C, alpha_last=None):
-    """(mu, alpha) of one state set: jump = target on contact normal,
-    prescribed and sticking rows; mu_t = -sign (b0 [cohesive] + f mu_n) on
-    slipping rows; mu = 0 on open ones; the pieces' equilibrium G^T mu + e
+    """(forces, alpha) of one state set: jump = target on contact normal,
+    prescribed and sticking rows; forces_t = -sign (b0 [cohesive] + f forces_n) on
+    slipping rows; forces = 0 on open ones; the pieces' equilibrium G^T forces + e
     = 0. The slipping rows' forces follow from their normal rows', so they
     are eliminated: one dense solve on the equality rows (and the pieces'
     amplitudes) only. Where that system is singular with floating pieces
@@ -182,14 +182,14 @@ def solve_state_set(P: PairProblem, A, T, sign, C, alpha_last=None):
     partner, f, b0 = law.partner, law.friction, law.cohesion_force
     m = len(P.jump0)
     r = P.G.shape[1]
-    mu = np.zeros(m)
+    forces = np.zeros(m)
     eq = np.flatnonzero((normal & A) | P.prescribed | (T == STICK))
     sl = np.flatnonzero(T == SLIP)
     if len(eq) + len(sl) == 0 and r == 0:
-        return mu, np.zeros(0)
+        return forces, np.zeros(0)
     n = len(eq)
-    # mu_sl = c_sl + D mu_eq: D has -sign f at the column of the slipping row's normal row (if it is an
-    # equality row; else the pair touches without a normal force, mu_n = 0)
+    # forces_sl = c_sl + D forces_eq: D has -sign f at the column of the slipping row's normal row (if it is an
+    # equality row; else the pair touches without a normal force, forces_n = 0)
     col = np.full(m, -1, np.int64)
     col[eq] = np.arange(n)
     c_sl = -sign[sl] * np.where(C[sl], b0[sl], 0.0)
@@ -229,7 +229,7 @@ def solve_state_set(P: PairProblem, A, T, sign, C, alpha_last=None):
             sol = last + np.linalg.lstsq(M, rhs - M @ last, rcond=None)[0]
     if r and not np.all(np.isfinite(sol)):
         return None
-    mu[eq] = sol[:n]
+    forces[eq] = sol[:n]
     if len(sl):
-        mu[sl] = c_sl + coef * (sol[np.maximum(pcol, 0)] if n else 0.0)
-    return mu, sol[n:]
+        forces[sl] = c_sl + coef * (sol[np.maximum(pcol, 0)] if n else 0.0)
+    return forces, sol[n:]

@@ -79,8 +79,8 @@ def loose_first(P: PairProblem, max_iter, active, start, solve) -> FrictionResul
     put in the middle of its opening; None where one would then penetrate a
     face (it touches: the whole problem is solved), or where there are no
     such pieces. (Left in the whole problem, a loose piece's place is free,
-    and the semi-smooth Newton iteration wanders with it: the stimulation
-    network's pressurised block, 22 state sets without settling.) solve: the
+    and the semi-smooth Newton iteration wanders with it: a pressurised
+    block went through tens of state sets without settling.) solve: the
     friction solve itself (contact.friction.solve_friction), for the rest."""
     G, e = P.G, P.e
     if P.e_scale is None:
@@ -114,19 +114,19 @@ def loose_first(P: PairProblem, max_iter, active, start, solve) -> FrictionResul
     rest = np.flatnonzero(~loose_cols)
     rigid = Rigid(G[np.ix_(keep, rest)], e[rest], P.e_scale[rest]) if len(rest) else None
     sub_start = None
-    if getattr(start, "state", None) is not None and len(start.mu) == len(gone):
-        sub_start = FrictionResult(start.mu[keep], start.jump[keep], start.active[keep], 0, [], start.jump0[keep],
+    if getattr(start, "state", None) is not None and len(start.forces) == len(gone):
+        sub_start = FrictionResult(start.forces[keep], start.jump[keep], start.active[keep], 0, [], start.jump0[keep],
                                    state=start.state[keep], reference=start.reference[keep], law=sub_law,
                                    cohesive=None if start.cohesive is None else start.cohesive[keep])
     sub = solve(P.S[np.ix_(keep, keep)], P.jump0[keep], P.target[keep], P.normal[keep], sub_law, max_iter,
                          None if active is None else np.asarray(active, bool)[keep], sub_start, rigid)
     m = len(gone)
-    mu = np.zeros(m)
-    mu[keep] = sub.mu
+    forces = np.zeros(m)
+    forces[keep] = sub.forces
     alpha = np.zeros(r)
     if len(rest):
         alpha[rest] = getattr(sub, "alpha", np.zeros(len(rest)))
-    jump = P.jump0 + P.S @ mu + G @ alpha
+    jump = P.jump0 + P.S @ forces + G @ alpha
     rows = gone & P.normal
     GV = G[np.ix_(rows, loose_cols)]
     gamma = (jump - P.target)[rows]
@@ -135,7 +135,7 @@ def loose_first(P: PairProblem, max_iter, active, start, solve) -> FrictionResul
     if np.min(after, initial=0.0) < 0.0:
         return None   # it would penetrate: it touches somewhere
     alpha[loose_cols] += z
-    jump = P.jump0 + P.S @ mu + G @ alpha
+    jump = P.jump0 + P.S @ forces + G @ alpha
     A = np.zeros(m, bool)
     A[keep] = sub.active
     T = np.full(m, OPEN, np.int8)
@@ -143,7 +143,7 @@ def loose_first(P: PairProblem, max_iter, active, start, solve) -> FrictionResul
     if getattr(sub, "state", None) is not None:
         T[keep] = sub.state
         C[keep] = sub.cohesive
-    res = result_of(P, mu, alpha, jump, A & P.normal, T, C, list(sub.history), fallback=bool(sub.fallback),
+    res = result_of(P, forces, alpha, jump, A & P.normal, T, C, list(sub.history), fallback=bool(sub.fallback),
                   iterations=int(sub.iterations), broken=int(getattr(sub, "broken", 0)))
     res.loose = int(loose_cols.sum()) + int(getattr(sub, "loose", 0))
     return res

@@ -18,8 +18,10 @@ for _handler in logging.getLogger().handlers:
 
 def preload():
     """Import the DOLFINx, ufl and PETSc modules and wingcrack's form modules
-    now, so that a caller can freeze their objects for the garbage collector."""
-    import dolfinx.fem.petsc  # noqa: F401
-    import ufl  # noqa: F401
+    now, so that a caller can freeze their objects for the garbage collector.
+    In a function on purpose: the caller chooses when DOLFINx's ~1 s import
+    runs (a run: while its first mesh is made)."""
+    import dolfinx.fem.petsc  # noqa: F401  (here: the caller picks when DOLFINx loads)
+    import ufl  # noqa: F401  (here, as DOLFINx)
 
-    from . import elasticity, interaction_integral  # noqa: F401
+    from . import elasticity, interaction_integral  # noqa: F401  (here: they import DOLFINx)

@@ -26,12 +26,17 @@ raises if it differs from the compiled form's (the tests do that).
 """
 from __future__ import annotations
 
+import ffcx.naming
 import numpy as np
 import ufl
 from dolfinx import cpp as _cpp
 from dolfinx import fem, jit
 from dolfinx.fem.forms import FormMetaClass
 from petsc4py import PETSc
+from ufl.algorithms import extract_arguments, extract_coefficients
+from ufl.algorithms.analysis import extract_constants
+
+from .. import interrupt
 
 #: compute the UFL signature at every lookup and compare it with the
 #: compiled form's (costs what the cache saves; for tests)
@@ -58,8 +63,6 @@ def _jit(comm, obj, **kwargs):
     wait for that module (FFCx's timeout, 10 s) and fail with "JIT
     compilation timed out". A stop waits for one compilation at most (a
     module not yet in the cache; a few seconds)."""
-    from .. import interrupt
-
     with interrupt.deferred():
         return jit.ffcx_jit(comm, obj, **kwargs)
 
@@ -158,9 +161,6 @@ def function_space(mesh, element: ufl.FiniteElementBase) -> fem.FunctionSpace:
 
 
 def _expression_layout(e) -> tuple:
-    from ufl.algorithms import extract_arguments, extract_coefficients
-    from ufl.algorithms.analysis import extract_constants
-
     return (e.ufl_shape, repr(e.ufl_domain().ufl_coordinate_element()),
             tuple(repr(a.ufl_element()) for a in extract_arguments(e)),
             tuple(repr(c.ufl_element()) for c in extract_coefficients(e)),
@@ -168,17 +168,12 @@ def _expression_layout(e) -> tuple:
 
 
 def _expression_signature(e, X) -> str:
-    import ffcx.naming
-
     return ffcx.naming.compute_signature([(e, X)], "")
 
 
 def expression(e, points: np.ndarray, recipe: tuple, dtype=PETSc.ScalarType) -> fem.Expression:
     """fem.Expression(e, points) with the expression compiled once per
     recipe, points and layout."""
-    from ufl.algorithms import extract_arguments, extract_coefficients
-    from ufl.algorithms.analysis import extract_constants
-
     dtype = np.dtype(dtype)
     X = np.reshape(points, (points.shape[0] if points.ndim == 2 else 1, -1))
     mesh = e.ufl_domain().ufl_cargo()

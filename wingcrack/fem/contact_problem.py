@@ -10,8 +10,8 @@ when it becomes its bracket's lower end, so that no solve starts from a
 state further along the load path than its own load.
 
 Pieces that only contact holds (wingcrack.floating) are solved through the
-pair problem: u = K_g^-1 (f + B mu) + R alpha on the gauged stiffness,
-their equilibrium R^T (f + B mu) = 0 a condition on mu (contact.friction,
+pair problem: u = K_g^-1 (f + B forces) + R alpha on the gauged stiffness,
+their equilibrium R^T (f + B forces) = 0 a condition on forces (contact.friction,
 Rigid); a piece that contact cannot hold fails with its motion named."""
 from __future__ import annotations
 
@@ -22,6 +22,7 @@ from ..contact.friction import OPEN, SLIP, STICK, Mechanism, Rigid, solve_fricti
 from .. import progress
 from ..errors import Collapse
 from .pair_operator import PairOperator
+from .pair_saddle import PairSaddle
 
 
 class ContactProblem:
@@ -36,8 +37,6 @@ class ContactProblem:
         self.rows = rows
         self.saddle = None
         if saddle and len(rows):
-            from .pair_saddle import PairSaddle
-
             self.saddle = PairSaddle(problem, rows)
         self.op = PairOperator(problem, rows) if len(rows) and self.saddle is None else None
         self.result = None
@@ -113,7 +112,7 @@ class ContactProblem:
                                  start=self.result, rigid=rigid)   # the last solve's states: the next trial's start
         except Mechanism as err:
             raise Collapse(self.floating.describe(err.residual, rows, err.closed)) from None
-        self.op.add_forces(u, res.mu)
+        self.op.add_forces(u, res.forces)
         if rigid is not None:
             self._add_rigid(u, res.alpha)
         self.result = res
@@ -135,10 +134,10 @@ class ContactProblem:
 
         def solve(A, T, sign, C):
             eq = (rows.normal & A) | prescribed | (T == STICK)
-            uu, mu = sd.solve_set(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), target,
+            uu, forces = sd.solve_set(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), target,
                                   p.b)
             last["u"] = uu
-            return mu, sd.jumps(uu)
+            return forces, sd.jumps(uu)
 
         def respond(A, T, sign, C, y):   # the rows y's own pair problem, the others held (by_sets._cycling_rows)
             eq = (rows.normal & A) | prescribed | (T == STICK)
@@ -183,22 +182,22 @@ class ContactProblem:
         return out
 
     def nodal_forces(self, num_nodes: int) -> np.ndarray:
-        """(num_nodes, 2) pair forces on the face nodes (+mu v on the + node)."""
+        """(num_nodes, 2) pair forces on the face nodes (+forces v on the + node)."""
         F = np.zeros((num_nodes, 2))
         if self.result is None:
             return F
-        f = self.result.mu[:, None] * self.rows.direction
+        f = self.result.forces[:, None] * self.rows.direction
         np.add.at(F, self.rows.plus, f)
         np.add.at(F, self.rows.minus, -f)
         return F
 
     def tractions(self) -> np.ndarray:
-        """-mu / weight at each row (Pa): sigma_nn on normal rows (<= 0 in
+        """-forces / weight at each row (Pa): sigma_nn on normal rows (<= 0 in
         contact, 0 open), the tangential traction t_t on the + face along t
         on tangential rows."""
         if self.result is None:
             return np.zeros(len(self.rows))
-        return -self.result.mu / np.maximum(self.rows.weight, 1e-300)
+        return -self.result.forces / np.maximum(self.rows.weight, 1e-300)
 
     def normal_traction(self) -> np.ndarray:
         """sigma_nn on the faces at each row (Pa; <= 0 in contact, 0 open);

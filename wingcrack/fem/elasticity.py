@@ -13,6 +13,7 @@ on the rest is (fem.far_field).
 """
 from __future__ import annotations
 
+import warnings
 from functools import cached_property
 
 import numpy as np
@@ -21,10 +22,15 @@ from dolfinx import fem
 from dolfinx.fem import petsc as fpetsc
 from petsc4py import PETSc
 
+from ..errors import ComputationError
 from ..loads import Loads
-from . import compiled
 from ..material import lame
+from . import compiled, schur
 from .mesh import cell_tags
+from .mumps_failure import MEMORY, describe, failed
+from .nodal import nodal_displacements
+from .nodal_fields import nodal_fields
+from .solution_span import SolutionSpan
 
 
 def strain(u):
@@ -58,9 +64,9 @@ class ElasticProblem:
         self.fm = fm
         self.cm = cm   # the CrackMesh of fm: needed only to reuse a far field (factorize)
         msh, V = fm.mesh, fm.V
-        lam, mu = lame(E, nu, plane)
-        self.lam = fem.Constant(msh, PETSc.ScalarType(lam))
-        self.mu = fem.Constant(msh, PETSc.ScalarType(mu))
+        lame_lambda, lame_mu = lame(E, nu, plane)
+        self.lame_lambda = fem.Constant(msh, PETSc.ScalarType(lame_lambda))
+        self.lame_mu = fem.Constant(msh, PETSc.ScalarType(lame_mu))
         self.load_factor = fem.Constant(msh, PETSc.ScalarType(1.0))
         self.sigma0 = fem.Constant(msh, np.asarray(loads.sigma0, dtype=PETSc.ScalarType))
         self.body = fem.Constant(msh, np.asarray(loads.body_force, dtype=PETSc.ScalarType))
@@ -96,6 +102,7 @@ class ElasticProblem:
         self.bcs, self._bc_values = self._dirichlet(loads)
         self._point_forces = self._locate_point_forces(loads.point_forces)
         self._face_dofs, self._face_values = self._locate_face_forces(loads.face_forces)
+        self._fixed_dofs, self._fixed_values = self._locate_face_forces(loads.fixed_face_forces)
 
         self.partial = far_interior is not None
         self.A = self._assemble_part(far_interior) if self.partial else self._assemble_whole()
@@ -185,7 +192,6 @@ class ElasticProblem:
     @staticmethod
     def _require_finite(values) -> None:
         if not np.all(np.isfinite(values)):
-            from ..errors import ComputationError
             raise ComputationError("the displacement has NaN/inf: the body is not held (singular system)")
 
     # -- stiffness ---------------------------------------------------------
@@ -227,11 +233,23 @@ class ElasticProblem:
         self.solver.setOperators(self.A)
         self.partial = False
 
+    @property
+    def lam(self):
+        """The former name of lame_lambda (deprecated)."""
+        warnings.warn("ElasticProblem.lam is deprecated: read .lame_lambda", DeprecationWarning, stacklevel=2)
+        return self.lame_lambda
+
+    @property
+    def mu(self):
+        """The former name of lame_mu, the shear modulus (deprecated)."""
+        warnings.warn("ElasticProblem.mu is deprecated: read .lame_mu", DeprecationWarning, stacklevel=2)
+        return self.lame_mu
+
     # -- physics -----------------------------------------------------------
     def stress(self, u, total: bool = True):
         """Cauchy stress of displacement u; with total=True add sigma0."""
         eps = strain(u)
-        s = self.lam * ufl.tr(eps) * ufl.Identity(2) + 2.0 * self.mu * eps
+        s = self.lame_lambda * ufl.tr(eps) * ufl.Identity(2) + 2.0 * self.lame_mu * eps
         return s + self.sigma0 if total else s
 
     def strain_energy(self) -> float:
@@ -245,16 +263,12 @@ class ElasticProblem:
 
     def nodal_displacements(self, nodes) -> np.ndarray:
         """(len(nodes), 2) displacement of CrackMesh `nodes` (m), on every rank."""
-        from .nodal import nodal_displacements
-
         return nodal_displacements(self.fm, self.u, nodes)
 
     def nodal_fields(self, num_nodes: int, tip_nodes=()) -> dict | None:
         """Displacement, total stress and von Mises stress by CrackMesh node
         (fem.nodal_fields; at the `tip_nodes`, where the stress is singular,
         its convention) on rank 0, None elsewhere. Collective."""
-        from .nodal_fields import nodal_fields
-
         return nodal_fields(self, num_nodes, tip_nodes)
 
     # -- boundary conditions ----------------------------------------------
@@ -322,8 +336,6 @@ class ElasticProblem:
         (self.cm) keeps, only the reduced matrix on the dofs outside the far
         interior is factorised (self.reused_far; the seconds of its parts in
         self.far_seconds); otherwise K whole."""
-        from . import schur
-
         self.expand()   # u of the factorisation before stays whole
         self._b_I = None
         self.__dict__.pop("_far_blocks", None)
@@ -375,15 +387,14 @@ class ElasticProblem:
         expands through it), and MUMPS then hands back that factorisation,
         not S_c: the copy taken before is kept, so that every contact problem
         built on this factorisation (another face law on the same mesh) gets S_c."""
-        from . import schur
-
         if self._schur is None:
             self._schur = schur.schur_complement(self._factor(), len(self.schur_dofs))
         return self._schur
 
     def assemble_rhs(self, load_factor: float) -> PETSc.Vec:
         """The right-hand side at `load_factor`: it multiplies the bc values
-        (unless the load mode is "pressure") and the fracture pressures."""
+        (unless the load mode is "pressure" or "injection") and the fracture
+        pressures (with "injection" those of the injected network only)."""
         pressure = self.loads.pressure_factor(load_factor)
         load_factor = self.loads.bc_factor(load_factor)
         self.load_factor.value = load_factor
@@ -399,6 +410,8 @@ class ElasticProblem:
                 arr[dof] += load_factor * val
         if len(self._face_dofs):
             b.getArray()[self._face_dofs] += pressure * self._face_values
+        if len(self._fixed_dofs):
+            b.getArray()[self._fixed_dofs] += self._fixed_values
         fpetsc.apply_lifting(b, [self.a], bcs=[self.bcs])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         if len(self.gauge_dofs):
@@ -452,8 +465,6 @@ class ElasticProblem:
         self._span.add(b.getArray(readonly=True), self._u.vector.getArray(readonly=True))
 
     def _forget(self) -> None:
-        from .solution_span import SolutionSpan
-
         n = self.fm.V.dofmap.index_map.size_local * self.fm.V.dofmap.index_map_bs
         self._span = SolutionSpan(n, n, SPAN, self.fm.mesh.comm)
 
@@ -476,7 +487,6 @@ class ElasticProblem:
         self.solver.solve(rhs, out)
         reason = self.solver.getConvergedReason()
         if reason < 0:
-            from ..errors import ComputationError
             raise ComputationError(f"linear solve failed (PETSc reason {reason})")
 
 
@@ -486,8 +496,6 @@ def cholesky(solver: PETSc.KSP, schur_dofs=None, num_dofs: int | None = None) ->
     that operator, one process) when given; ComputationError where the
     matrix is singular or not positive definite. num_dofs: the operator's
     size, for the ordering (AMF_BELOW)."""
-    from . import schur
-
     pc = solver.getPC()
     pc.setFactorSetUpSolverType()
     if schur_dofs is not None:
@@ -513,16 +521,13 @@ def cholesky(solver: PETSc.KSP, schur_dofs=None, num_dofs: int | None = None) ->
     if schur_dofs is None and num_dofs < AMF_BELOW:
         ordering = _OPTIONS_PREFIX + "mat_mumps_icntl_7"
         options[ordering] = 2
-    from .mumps_failure import MEMORY, describe, failed
     try:
         solver.setUp()
         if failed(solver) and F.getMumpsInfog(1) in MEMORY:   # PETSc records it as the PC's failure only
-            from ..errors import ComputationError
             raise ComputationError(describe(solver, None, "the stiffness matrix", singular=""))
         # INFOG(28): null pivots; INFOG(12): negative pivots, which an SPD K never has
         null_pivots = F.getMumpsInfog(28) + F.getMumpsInfog(12)
     except PETSc.Error as err:
-        from ..errors import ComputationError
         if F.getMumpsInfog(1) in MEMORY:
             raise ComputationError(describe(solver, err, "the stiffness matrix", singular="")) from None
         raise ComputationError(f"the factorisation failed (PETSc error {err.ierr}): the stiffness matrix is "
@@ -532,6 +537,5 @@ def cholesky(solver: PETSc.KSP, schur_dofs=None, num_dofs: int | None = None) ->
         if ordering is not None:
             options.delValue(ordering)
     if null_pivots > 0:
-        from ..errors import ComputationError
         raise ComputationError(f"the stiffness matrix is singular ({null_pivots} null or negative pivots): a fracture cuts off "
                                "a piece of the body that no boundary condition holds")

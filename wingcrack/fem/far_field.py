@@ -39,7 +39,8 @@ import numpy as np
 from petsc4py import PETSc
 from scipy import sparse
 
-from . import schur
+from ..errors import ComputationError
+from . import elasticity, schur
 from .solution_span import SolutionSpan
 
 #: the far interior must hold at least this share of the dofs: below it the
@@ -97,7 +98,6 @@ def _solve(ksp: PETSc.KSP, rhs: PETSc.Vec, out: PETSc.Vec) -> None:
     ksp.solve(rhs, out)
     reason = ksp.getConvergedReason()
     if reason < 0:
-        from ..errors import ComputationError
         raise ComputationError(f"linear solve failed (PETSc reason {reason})")
 
 
@@ -125,7 +125,7 @@ def _fixed(problem) -> np.ndarray:
 def _material(problem) -> tuple:
     """What K's entries on the same cells depend on besides their nodes: the
     Lame constants (the run's material, plane stress or strain)."""
-    return float(problem.lam.value), float(problem.mu.value)
+    return float(problem.lame_lambda.value), float(problem.lame_mu.value)
 
 
 def _avoided(cm) -> np.ndarray:
@@ -233,10 +233,9 @@ class FarField:
         self._material = _material(problem)
         t2 = time.perf_counter()
 
-        from .elasticity import cholesky
         ksp = _cholesky_solver(A)
         try:
-            cholesky(ksp, self._pG)
+            elasticity.cholesky(ksp, self._pG)
             # the copy before the first solve factorises S' in place (see ElasticProblem.schur_complement)
             self.S = schur.schur_complement(ksp.getPC().getFactorMatrix(), self.nG)
             # the factor alone solves (MatSolve): A_far, as large as most of K, is not kept beside it
@@ -393,10 +392,9 @@ class FarField:
         t2 = time.perf_counter()
 
         seconds["reduce"] = t2 - t1
-        from .elasticity import cholesky
         ksp = _cholesky_solver(A_R)
         try:
-            cholesky(ksp, P)
+            elasticity.cholesky(ksp, P)
         except BaseException:
             ksp.destroy()
             A_R.destroy()

@@ -23,9 +23,11 @@ import numpy as np
 import ufl
 from dolfinx import fem
 from petsc4py import PETSc
+from scipy.spatial import cKDTree
 
 from ..material import e_prime, in_plane_strain, kappa
 from . import compiled
+from .mesh import cell_tags
 
 
 class InteractionIntegral:
@@ -39,7 +41,7 @@ class InteractionIntegral:
         self.mode = fem.Constant(msh, np.array([1.0, 0.0], dtype=PETSc.ScalarType))
         self.eps0 = fem.Constant(msh, in_plane_strain(np.asarray(sigma0, float), E, nu, plane).astype(PETSc.ScalarType))
         self.kappa = kappa(nu, plane)
-        lam, mu = problem.lam, problem.mu
+        lame_lambda, lame_mu = problem.lame_lambda, problem.lame_mu
         kap = self.kappa
 
         x = ufl.SpatialCoordinate(msh)
@@ -50,7 +52,7 @@ class InteractionIntegral:
         c, s = ufl.cos(th / 2), ufl.sin(th / 2)
         c3, s3 = ufl.cos(3 * th / 2), ufl.sin(3 * th / 2)
         f = 1.0 / ufl.sqrt(2.0 * np.pi * r)
-        g = ufl.sqrt(r / (2.0 * np.pi)) / (2.0 * mu)
+        g = ufl.sqrt(r / (2.0 * np.pi)) / (2.0 * lame_mu)
         kI, kII = self.mode[0], self.mode[1]
         s11 = kI * f * c * (1 - s * s3) - kII * f * s * (2 + c * c3)
         s22 = kI * f * c * (1 + s * s3) + kII * f * s * c * c3
@@ -62,7 +64,7 @@ class InteractionIntegral:
         ])
         # d u_a / dX = d u_a / dx . dx/dX, with x = tip + R^T X
         du_a = ufl.dot(ufl.grad(u_a), R.T)
-        eps_a = (sig_a - lam * ufl.tr(sig_a) / (2 * lam + 2 * mu) * ufl.Identity(2)) / (2 * mu)
+        eps_a = (sig_a - lame_lambda * ufl.tr(sig_a) / (2 * lame_lambda + 2 * lame_mu) * ufl.Identity(2)) / (2 * lame_mu)
 
         u = problem.u_function   # its values read on each tip's cells (sifs: ElasticProblem.u_at)
         grad_u = ufl.grad(u) + self.eps0                      # total, global frame
@@ -86,7 +88,6 @@ class InteractionIntegral:
         self._q_x = self.Q.tabulate_dof_coordinates()[:, :2]
         # one form for every tip, made on each tip's cells (_form_near) without reading
         # its expression again; compiled with an empty cell set, as the tips' will be
-        from .mesh import cell_tags
         none = cell_tags(msh, np.zeros(0, dtype=np.int32))
         dx = ufl.Measure("dx", domain=msh, subdomain_data=none, metadata={"quadrature_degree": quadrature_degree})
         self._prepared = compiled.Prepared(integrand * dx(1), ("interaction_integral", self.kappa))
@@ -119,8 +120,6 @@ class InteractionIntegral:
         """(form, cells): the form on the cells with a vertex closer than r_out to the tip:
         elsewhere q (P1, vertex dofs) and its gradient vanish, so the
         integral over these cells alone is the integral over the mesh."""
-        from .mesh import cell_tags
-
         msh = self.problem.fm.mesh
         near = np.asarray(self._vertex_tree.query_ball_point(tip_xy, r_out), dtype=np.int64) // 3
         near = np.unique(near)
@@ -131,12 +130,8 @@ class InteractionIntegral:
     @cached_property
     def _vertex_tree(self):
         """A k-d tree of the local cells' vertices (point 3 c + i: vertex i of cell c)."""
-        from scipy.spatial import cKDTree
-
         return cKDTree(self._cell_x.reshape(-1, 2))
 
     @cached_property
     def _q_tree(self):
-        from scipy.spatial import cKDTree
-
         return cKDTree(self._q_x)

@@ -14,7 +14,7 @@ def nodal_displacements(fm, u, nodes) -> np.ndarray:
     vals[found, 0] = arr[2 * blk[found]]
     vals[found, 1] = arr[2 * blk[found] + 1]
     if comm.size > 1:
-        from mpi4py import MPI
+        from mpi4py import MPI  # here: its import starts MPI, and step imports this module before DOLFINx
         count = np.zeros(len(nodes))
         comm.Allreduce(found.astype(float), count, op=MPI.SUM)
         total = np.zeros_like(vals)

@@ -1,13 +1,13 @@
 """The pair operator: B (dofs x rows) and the pair compliance S = B^T K^-1 B.
 
 Column j of B holds +v_j at the + node's dofs and -v_j at the - node's, so
-B^T u are the jumps (u+ - u-).v_j and B mu are the pair forces. S comes from
+B^T u are the jumps (u+ - u-).v_j and B forces are the pair forces. S comes from
 the Schur complement S_c of K on the pair dofs P that MUMPS computes during
 the factorisation ((K^-1)_PP = S_c^-1; see fem.schur), or, where that is not
 available (several processes: PETSc 3.18 offers MUMPS Schur complements on
 one process only), from K^-1 B by MUMPS multi-right-hand-side solves, one per
-pair row in effect (the contact phase then grows with pairs x DOFs; see the
-README's "Several processes").
+pair row in effect (the contact phase then grows with pairs x DOFs; see
+docs/user-guide/mpi.md).
 Either way it is built once per mesh; every active-set
 iteration, load factor or slip value is then a small dense solve, and the
 pair forces' response is one more back-substitution (none where the
@@ -22,6 +22,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 from scipy import linalg, sparse
 
+from ..errors import ComputationError
 from .solution_span import SolutionSpan
 
 
@@ -30,16 +31,16 @@ BLOCK = 20_000_000    # numbers (owned rows x right-hand sides) per MUMPS multi-
 #: (the value that solved fastest in the benchmarks of several processes)
 RHS_BLOCKING = 64
 Z_KEEP = 20_000_000   # keep K^-1 B (owned rows x pairs) up to this many numbers (160 MB)
-#: pair-force responses K^-1 B mu kept for mu in their span (fem.solution_span): the
+#: pair-force responses K^-1 B forces kept for forces in their span (fem.solution_span): the
 #: contact forces of a problem linear in its load are proportional to the load
 #: factor (closed faces without gap or slip), so the critical-load search's
 #: second solve of a step takes its response from the first
 SPAN = 2
-#: ... where the least-squares residual is below this times |mu|: the multipliers come
+#: ... where the least-squares residual is below this times |forces|: the multipliers come
 #: from a dense solve of the pair system, so they carry its round-off, about
 #: cond(S_AA) eps (1.9e-14 between two load factors of a closed crack in a plate,
 #: tests/unit/test_solve_span.py), above the 1e-14 that assembled right-hand sides meet;
-#: a residual within that round-off changes the response no more than mu's own error does
+#: a residual within that round-off changes the response no more than the forces' own error does
 SPAN_TOLERANCE = 1e-12
 _SINGULAR = ("the stiffness matrix is singular: a fracture cuts off a piece of the body that no "
              "boundary condition holds")
@@ -79,7 +80,7 @@ class PairOperator:
         self.blocks = np.unique(np.r_[fm.block_dofs(rows.plus)[1], fm.block_dofs(rows.minus)[1]])
         self.blocks = self.blocks[self.blocks >= 0]   # the local block dofs of the pair nodes
         self.Z = None
-        self._responses = SolutionSpan(m, self.n_owned, SPAN, comm, SPAN_TOLERANCE)   # earlier mu and K^-1 B mu
+        self._responses = SolutionSpan(m, self.n_owned, SPAN, comm, SPAN_TOLERANCE)   # earlier forces and K^-1 B forces
         if getattr(problem, "schur_dofs", None) is not None:
             P = problem.schur_dofs
             Sc = problem.schur_complement()
@@ -88,7 +89,6 @@ class PairOperator:
             try:
                 L = linalg.cholesky(Sc, lower=True)
             except np.linalg.LinAlgError:
-                from ..errors import ComputationError
                 raise ComputationError(_SINGULAR) from None
             W = linalg.solve_triangular(L, BP, lower=True)
             self.S = W.T @ W
@@ -130,24 +130,24 @@ class PairOperator:
         """B^T u for the owned part of a displacement vector."""
         return self.problem.fm.mesh.comm.allreduce(self.B.T @ u_owned)
 
-    def add_forces(self, u, mu: np.ndarray) -> None:
-        """u += K^-1 B mu (the response to the pair forces), then update ghosts."""
+    def add_forces(self, u, forces: np.ndarray) -> None:
+        """u += K^-1 B forces (the response to the pair forces), then update ghosts."""
         if self.Z is not None:
             arr = u.vector.getArray()
-            arr += self.Z @ mu
+            arr += self.Z @ forces
         else:
-            mu = np.asarray(mu, dtype=np.float64)
-            du = self._responses.find(mu)   # mu is the same on every process: the sums only scale
+            forces = np.asarray(forces, dtype=np.float64)
+            du = self._responses.find(forces)   # forces is the same on every process: the sums only scale
             if du is None:
                 p = self.problem
                 rhs = p.b.duplicate()
-                rhs.getArray()[:] = self.B_free @ mu
+                rhs.getArray()[:] = self.B_free @ forces
                 dv = rhs.duplicate()
                 # through the far field's condensation where factorize reused it: on R only, u's far
                 # interior part is computed from u on R when it is read (p.defer, ElasticProblem.expand)
                 p.solve_vector(rhs, dv, expand=False)
                 du = dv.getArray(readonly=True).copy()
-                self._responses.add(mu, du)
+                self._responses.add(forces, du)
                 rhs.destroy()
                 dv.destroy()
             arr = u.vector.getArray()

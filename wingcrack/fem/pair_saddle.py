@@ -9,11 +9,11 @@ iteration (contact.friction) is solved with the elasticity whole, the
 multipliers beside the displacements:
 
     [ K      -B ] [u ]   [b]         K, b: the assembled stiffness and load
-    [ L_u   L_mu] [mu] = [t]         (Dirichlet rows as assembled)
+    [ L_u   L_f] [forces] = [t]         (Dirichlet rows as assembled)
 
 with, for each row j: an equality row (closed normal, sticking, prescribed)
-B_j^T u = target_j; a slipping row mu_j + sign_j f_j mu_p = -sign_j c_j
-(p its normal row); an open row mu_j = 0. The upper block is the same for
+B_j^T u = target_j; a slipping row forces_j + sign_j f_j forces_p = -sign_j c_j
+(p its normal row); an open row forces_j = 0. The upper block is the same for
 every set, the lower rows change values, not places: one pattern, factorised
 by MUMPS (LU). The jumps are B^T u.
 
@@ -25,8 +25,7 @@ slip to stick changed it by 1 against a response of 1e-10: the update's
 capacitance matrix below lost ten digits to that cancellation).
 
 The active set's first iterations change thousands of rows, its last ones a
-few hundred at most (a network of a thousand fractures: 33,964 rows, then
-10,983, then 390, 34, 47, 5, 6), and these change the same rows back and forth: a
+few hundred at most, and these change the same rows back and forth: a
 set whose lower rows differ from the factorised set's in r rows is that
 matrix plus a rank-r change, solved through the factorisation kept by the
 Sherman-Morrison-Woodbury formula (_updated), with two solves and the
@@ -88,7 +87,7 @@ class PairSaddle:
         m = len(rows)
         self.m = m
         last = comm.rank == comm.size - 1
-        self.owns_mu = last
+        self.owns_forces = last
         start = imap.local_range[0] * bs
         self.start = start
         ghosts = imap.ghosts
@@ -131,8 +130,8 @@ class PairSaddle:
         self.rows = rows
         # the faces' jump stiffness: the force per unit length a unit jump takes, ~E (the scale of the
         # equality rows here, and of the complementarity parameters of the iteration, contact.by_sets)
-        lam, mu = float(problem.lam.value), float(problem.mu.value)
-        self.stiffness = 4.0 * mu * (lam + mu) / (lam + 2.0 * mu)
+        lame_lambda, lame_mu = float(problem.lame_lambda.value), float(problem.lame_mu.value)
+        self.stiffness = 4.0 * lame_mu * (lame_lambda + lame_mu) / (lame_lambda + 2.0 * lame_mu)
         K = problem.A
         indptr, indices, values = K.getValuesCSR()
         Kc = sparse.csr_matrix((values, indices, indptr), shape=(self.n_owned, n_global + m))
@@ -219,7 +218,7 @@ class PairSaddle:
         return self.comm.allreduce(self.B.T @ u_owned)
 
     def unconstrained(self, b: PETSc.Vec) -> np.ndarray:
-        """K^-1 b on this rank's owned dofs: the set with every row open (mu =
+        """K^-1 b on this rank's owned dofs: the set with every row open (forces =
         0), through this system's factorisation (K is not factorised alone);
         from the kept solutions where b lies in their span (the loads are
         affine in the load factor: two such solves a mesh at most). Collective."""
@@ -233,7 +232,7 @@ class PairSaddle:
         return u
 
     def solve_set(self, eq, slip, sign, f, b0_cohesive, target, b: PETSc.Vec):
-        """(u owned (n_owned,), mu (m,)) of one state set: eq (m,) bool equality rows; slip (m,) bool
+        """(u owned (n_owned,), forces (m,)) of one state set: eq (m,) bool equality rows; slip (m,) bool
         slipping rows with sign, friction f and cohesion force b0_cohesive (0 where the pair holds none);
         the rest open. b: the assembled load (the problem's right-hand side). Collective."""
         low = self._prepare(eq, slip, sign, f, b0_cohesive, target, b)
@@ -252,18 +251,18 @@ class PairSaddle:
         arr = self.rhs.getArray()
         arr[:self.n_owned] = b.getArray(readonly=True)[:self.n_owned]
         low = None
-        if self.owns_mu:
+        if self.owns_forces:
             arr[self.n_owned:] = low_rhs
             low = _values_on(self._lower_pattern, self._lower(eq, coef, diag))
         return low
 
     def _parts(self, x):
-        """(u owned, mu (m,) on every rank) of a solution's entries on this rank."""
+        """(u owned, forces (m,) on every rank) of a solution's entries on this rank."""
         u = x[:self.n_owned].copy()
-        mu = self.comm.bcast(x[self.n_owned:].copy() if self.owns_mu else None, root=self.comm.size - 1)
-        if not (np.all(np.isfinite(u)) and np.all(np.isfinite(mu))):
+        forces = self.comm.bcast(x[self.n_owned:].copy() if self.owns_forces else None, root=self.comm.size - 1)
+        if not (np.all(np.isfinite(u)) and np.all(np.isfinite(forces))):
             raise ComputationError("contact: the saddle-point system of a state set is singular (NaN)")
-        return u, mu
+        return u, forces
 
     def _factorised(self, low) -> np.ndarray:
         """The set's solution (this rank's entries) by a new factorisation of
@@ -285,13 +284,13 @@ class PairSaddle:
             raise ComputationError(_factor_failure(self.ksp, None))
         self.factorisations += 1
         self._norm = self.M.norm(PETSc.NormType.INFINITY)
-        self._factored = low if self.owns_mu else True
+        self._factored = low if self.owns_forces else True
         self._solve(self.rhs, self.x)
         return self.x.getArray(readonly=True).copy()
 
     def _set_lower(self, low) -> None:
         """The lower rows' values (last rank's); collective (assembly)."""
-        if self.owns_mu:
+        if self.owns_forces:
             P = self._lower_pattern
             for i in range(self.m):
                 a, z = P.indptr[i], P.indptr[i + 1]
@@ -313,7 +312,7 @@ class PairSaddle:
         if self._factored is None or not mumps_inverse.available():
             return None
         changed, diff = None, None
-        if self.owns_mu:
+        if self.owns_forces:
             diff = low - self._factored
             changed = np.flatnonzero(np.add.reduceat(np.abs(diff), self._lower_pattern.indptr[:-1]) > 0.0) \
                 if len(diff) else np.zeros(0, np.int64)
@@ -321,7 +320,7 @@ class PairSaddle:
         if len(changed) > REUSE_ROWS:
             return None
         D, used, columns = None, None, None
-        if self.owns_mu and len(changed):
+        if self.owns_forces and len(changed):
             D = self._difference(diff, changed)
             used = np.unique(D.indices)               # D's columns, among the gathered ones
             columns = self._cols[used]                # their global indices
@@ -338,7 +337,7 @@ class PairSaddle:
         if self.comm.size > 1:
             W = self.comm.bcast(W, root=0)
         c = None
-        if self.owns_mu and W is not None:
+        if self.owns_forces and W is not None:
             C = np.eye(len(changed)) + D[:, used] @ W
             if np.linalg.cond(C) < UPDATE_CONDITION:
                 c = np.linalg.solve(C, D @ yc)
@@ -347,7 +346,7 @@ class PairSaddle:
             return None
         e = self.rhs.duplicate()
         self.rhs.copy(e)
-        if self.owns_mu:
+        if self.owns_forces:
             e.getArray()[self.n_owned + changed] -= c
         self._solve(e, y)
         x = y.getArray(readonly=True).copy()
@@ -417,7 +416,7 @@ class PairSaddle:
         r = work.getArray()
         r -= self.rhs.getArray(readonly=True)
         xc = self._at_columns(xv)
-        if self.owns_mu:
+        if self.owns_forces:
             r[self.n_owned + changed] += self._difference(diff, changed) @ xc
         res = self.comm.allreduce(float(np.max(np.abs(r), initial=0.0)), op=MPI.MAX)
         scale = self._norm * xv.norm(PETSc.NormType.INFINITY) + self.rhs.norm(PETSc.NormType.INFINITY)

@@ -3,7 +3,7 @@
 MUMPS can eliminate every dof but a chosen few during the factorisation and
 hand back the dense Schur complement S_c = K_PP - K_PI K_II^-1 K_IP; then
 (K^-1)_PP = S_c^-1, which is all the pair system needs, with no
-back-substitution per pair row as Z = K^-1 B takes (README, Performance).
+back-substitution per pair row as Z = K^-1 B takes.
 Plain solves with the factor still work:
 PETSc condenses and expands through the Schur complement.
 
@@ -19,6 +19,9 @@ import ctypes
 
 import numpy as np
 from petsc4py import PETSc
+
+from ..errors import ComputationError
+from .mumps_failure import MEMORY
 
 _LIB = None
 
@@ -57,8 +60,6 @@ def schur_complement(factor: PETSc.Mat, k: int) -> np.ndarray:
     status = ctypes.c_int()
     err = lib.MatFactorCreateSchurComplement(ctypes.c_void_p(factor.handle), ctypes.byref(S), ctypes.byref(status))
     if err:
-        from ..errors import ComputationError
-        from .mumps_failure import MEMORY
         info = factor.getMumpsInfog(1)
         if info in MEMORY:
             raise ComputationError(f"out of memory: the factorisation of the stiffness with the pair dofs' Schur "

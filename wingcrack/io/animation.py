@@ -162,7 +162,10 @@ def animate_growth(folder: Path, result, fmt: str | None = None, drawn: list | N
                                    if np.any(faces.state == s))
                 # with fluid the face counts go to a line of their own: the stress scale would cut a long one
                 injection = f"; p max {faces.pressure.max() / 1e6:.4g} MPa\n" if wet.any() else "; "
-                fonts.set_title(ax, f"{result.summary['title']}\nstep {step['step']}: load factor {step['load_factor']:.5g}"
+                # a pumped run: the time and the pump's pressure (the load factor is that pressure in Pa)
+                load = f"load factor {step['load_factor']:.5g}" if "time" not in step else \
+                    f"t = {step['time']:.5g} s"
+                fonts.set_title(ax, f"{result.summary['title']}\nstep {step['step']}: {load}"
                              + (injection + f"face edges {counts}" if counts else injection.rstrip("; \n")),
                              fontsize=10)
                 if drawn is not None:

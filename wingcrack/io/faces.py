@@ -21,6 +21,11 @@ Point data of faces_XXXX.vtu (zero at the tips, which are not pairs):
     pressure             p (Pa, >= 0): the fluid pressure of the pair's fracture
                          at the step's load, pushing both faces apart (total
                          face traction = contact traction - p n)
+    aperture             w + g + w_r (m): the space the fluid fills, the opening
+                         plus the initial gap g of contact faces plus the
+                         residual aperture w_r of a pumped case (its
+                         injection.residual_aperture); the integral of it
+                         along a fracture is its volume
 
 [u] = u(+) - u(-), n the pair normal (left normal of the fracture direction
 d), t = d (docs/architecture.md). Frictionless and prescribed-slip pairs in
@@ -33,6 +38,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import vtu
+
 #: the contact state of a pair (the codes of wingcrack.contact.friction)
 OPEN, STICK, SLIP = 0, 1, 2
 STATE_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
@@ -40,16 +47,17 @@ STATE_NAMES = {OPEN: "open", STICK: "stick", SLIP: "slip"}
 STATE_CODES = {f"state_{name}": code for code, name in STATE_NAMES.items()}
 #: the face values (step.Discretisation.face_values) a face file holds per node
 FLOAT_FIELDS = ("opening", "slip", "normal_traction", "tangential_traction", "slip_increment", "closed",
-                "pressure")
+                "pressure", "aperture")
 
 
 def face_state(cm, values: dict) -> dict:
     """Per pair of `cm` (a CrackMesh): position, opening w = [u].n, slip
     s = [u].t (m), normal and tangential traction (Pa), slip increment (m),
-    state (int8), closed (bool) and fluid pressure (Pa), from the face values
-    of step.Discretisation.face_values: {"jump": (p, 2) [u], "normal_traction",
-    "tangential_traction", "state", "slip_increment", "closed", "pressure":
-    (p,)} (values without "pressure": no fracture is pressurised)."""
+    state (int8), closed (bool), fluid pressure (Pa) and aperture (m), from
+    the face values of step.Discretisation.face_values: {"jump": (p, 2) [u],
+    "normal_traction", "tangential_traction", "state", "slip_increment",
+    "closed", "pressure", "aperture": (p,)} (values without "pressure": no
+    fracture is pressurised; without "aperture": the opening)."""
     pairs = np.asarray(cm.pairs, dtype=np.int64).reshape(-1, 2)
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     t = np.c_[n[:, 1], -n[:, 0]]
@@ -58,7 +66,9 @@ def face_state(cm, values: dict) -> dict:
     if state.size and not np.isin(state, list(STATE_NAMES)).all():
         raise ValueError(f"face states must be {OPEN} (open), {STICK} (stick) or {SLIP} (slip), "
                          f"not {sorted(set(state.tolist()) - set(STATE_NAMES))}")
-    return {"position": np.asarray(cm.x)[pairs[:, 0]], "opening": np.sum(jump * n, axis=1),
+    opening = np.sum(jump * n, axis=1)
+    return {"position": np.asarray(cm.x)[pairs[:, 0]], "opening": opening,
+            "aperture": np.asarray(values.get("aperture", opening), float),
             "slip": np.sum(jump * t, axis=1), "normal_traction": np.asarray(values["normal_traction"], float),
             "tangential_traction": np.asarray(values["tangential_traction"], float),
             "slip_increment": np.asarray(values["slip_increment"], float), "state": state,
@@ -71,8 +81,6 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     (see the module doc; zero, OPEN, at tips, which are not pairs) from the
     pair values of face_state; `field_data` ({name: number}) as in
     write_field_arrays, and the state codes."""
-    from .vtu import write_vtu
-
     st = face_state(cm, values)
     edges = np.asarray(cm.crack_edges, dtype=np.int64)
     nodes, local = np.unique(edges, return_inverse=True)
@@ -86,5 +94,5 @@ def write_faces(path: Path, cm, values: dict, field_data: dict | None = None) ->
     data["state"][where[on_face]] = st["state"][on_face]
     pts = np.c_[np.asarray(cm.x)[nodes], np.zeros(len(nodes))]
     frac = np.asarray(cm.crack_fracture, dtype=np.int64)
-    return write_vtu(path, pts, [("line3", local.reshape(-1, 3))], data, cell_data={"fracture": [frac]},
+    return vtu.write_vtu(path, pts, [("line3", local.reshape(-1, 3))], data, cell_data={"fracture": [frac]},
                      field_data={**(field_data or {}), **STATE_CODES})

@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import vtu
+
 
 def stress_tensor(s: np.ndarray) -> np.ndarray:
     """(n, 9) row-major 3 x 3 tensors from (n, 3) rows (sxx, syy, sxy)."""
@@ -38,13 +40,11 @@ def write_field_arrays(path: Path, cm, fields: dict | None, field_data: dict | N
     `path` (.vtu); `field_data` ({name: number}, e.g. the step and its load
     factor) goes into the file's field data. Nothing is written where
     `fields` is None (the ranks but 0 of a parallel run)."""
-    from .vtu import write_vtu
-
     path = Path(path)
     if fields is not None:
         points = np.c_[cm.x, np.zeros(len(cm.x))]
         disp = np.c_[fields["displacement"], np.zeros(len(cm.x))]
-        write_vtu(path, points, [("triangle6", np.asarray(cm.cells))],
+        vtu.write_vtu(path, points, [("triangle6", np.asarray(cm.cells))],
                   {"displacement": disp, "stress": stress_tensor(fields["stress"]), "von_mises": fields["von_mises"]},
                   field_data=field_data)
     return path

@@ -15,7 +15,7 @@ BASE = "DejaVu Sans"
 
 @lru_cache(maxsize=None)
 def _charmap(path: str) -> frozenset:
-    from matplotlib.ft2font import FT2Font
+    from matplotlib.ft2font import FT2Font  # here: matplotlib loads with the first picture only
 
     try:
         return frozenset(FT2Font(path).get_charmap())
@@ -33,7 +33,7 @@ def fallback(text: str) -> tuple[tuple[str, ...], str]:
     """(families, missing): the font family list that draws `text` (BASE
     first, then installed fonts for the characters BASE lacks, in the order
     matplotlib lists them), and the characters no installed font has."""
-    import matplotlib.font_manager as fm
+    import matplotlib.font_manager as fm  # here: matplotlib loads with the first picture only
 
     need = set(c for c in text if _drawn(c) and ord(c) not in _charmap(fm.findfont(BASE)))
     families = [BASE]

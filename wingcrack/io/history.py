@@ -2,7 +2,10 @@
 every tip (Pa m^0.5, eq. 10 of the paper) and the number of DOFs; when a
 fracture holds fluid in some step, a panel more: the injection pressure
 (the highest fracture pressure of the step, MPa) and, from the face files,
-the slipping length (m, the face edges in state SLIP)."""
+the slipping length (m, the face edges in state SLIP). A run driven by a
+pump (its steps have a time) shows instead, against time, the injection
+pressure (the breakdown curve: every state the steps solved, the drop after
+each growth) and the fractures' length, then K_eq and the DOFs by step."""
 from __future__ import annotations
 
 import textwrap
@@ -70,6 +73,8 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     import matplotlib.pyplot as plt
 
     h = history(summary)
+    if any("time" in st for st in summary["steps"]):
+        return _plot_pumped(path, summary, h, plt)
     wet = bool(np.any(h["injection"] > 0))
     # constrained layout keeps a legend beside its axes inside the figure (tight_layout leaves it out
     # and warns when it cannot fit: the warning reached the terminal raw)
@@ -193,3 +198,73 @@ def _injection_panel(ax, h: dict, slipping, marker) -> list:
     right.set_ylabel("slipping length (m)", color="#D55E00")
     right.set_ylim(bottom=0.0)   # the axis labels, in the lines' colours, say which is which: no legend over them
     return [right]
+
+
+def pumped(summary: dict) -> dict:
+    """The series of a pumped run (steps with a time), from its summary:
+    curve (t (n,), p (n,)): every state its steps solved in time order (each
+    step's balance, the search's states below the critical pressure, the
+    critical point; the drop after growth is the next step's balance at the
+    same time), Pa; critical (t, p) of each step's record and unstable (s,)
+    bool; length (t (2s,), m (2s,)): the fractures' total length over each
+    step's interval, from its start to its time."""
+    steps = [st for st in summary["steps"] if "time" in st]
+    points = [pt for st in steps for pt in st["injection"]["history"]]
+    t = np.array([pt[0] for pt in points], float)
+    p = np.array([pt[1] for pt in points], float)
+    lengths = [sum(n["length"] for n in st["networks"]) for st in steps]
+    starts = [st["injection"]["history"][0][0] for st in steps]
+    ends = [st["time"] for st in steps]
+    return {"curve": (t, p),
+            "critical": (np.array(ends, float), np.array([st["injection"]["pressure"] for st in steps], float)),
+            "unstable": np.array([bool(st["injection"].get("unstable")) for st in steps]),
+            "length": (np.array([x for a, b in zip(starts, ends) for x in (a, b)], float),
+                       np.array([x for m in lengths for x in (m, m)], float))}
+
+
+def _plot_pumped(path: Path, summary: dict, h: dict, plt) -> dict:
+    """history.png of a pumped run: the breakdown curve and the fractures'
+    length against time, K_eq and the DOFs by step (labels "injection
+    pressure", "critical pressure of the step", "unstable growth (no time
+    passes)", "fracture length", "fracture F end E", "KIc", "DOFs")."""
+    pm = pumped(summary)
+    fig, axes = plt.subplots(4, 1, figsize=(8.5, 10.5), layout="constrained",
+                             gridspec_kw={"height_ratios": [1.4, 1.0, 1.1, 0.7]})
+    ax_p, ax_l, ax_k, ax_dofs = axes
+    marker = "o" if len(h["step"]) <= 60 else None
+    t, p = pm["curve"]
+    ax_p.plot(t, p / 1e6, lw=1.2, color="#0072B2", label="injection pressure")
+    tc, pc = pm["critical"]
+    stable = ~pm["unstable"]
+    ax_p.plot(tc[stable], pc[stable] / 1e6, ls="none", marker="o", ms=3.5, color="black",
+              label="critical pressure of the step")
+    if pm["unstable"].any():
+        ax_p.plot(tc[~stable], pc[~stable] / 1e6, ls="none", marker="x", ms=5, color="#D55E00",
+                  label="unstable growth (no time passes)")
+    ax_p.set_ylabel("injection pressure (MPa)")
+    ax_p.set_ylim(bottom=0.0)
+    ax_p.legend(fontsize=7, loc="best")
+    tl, ml = pm["length"]
+    ax_l.plot(tl, ml, color="#009E73", label="fracture length")
+    ax_l.set_ylabel("fracture length (m)")
+    ax_l.set_xlabel("time (s)")
+    ax_p.sharex(ax_l)
+    _k_eq_panel(ax_k, h, summary, marker)
+    ax_dofs.plot(h["step"], h["dofs"], marker=marker, ms=3, color="tab:gray", label="DOFs")
+    ax_dofs.set_ylabel("DOFs")
+    ax_dofs.set_xlabel("step")
+    ax_k.sharex(ax_dofs)
+    ax_dofs.xaxis.get_major_locator().set_params(integer=True)
+    status = "" if summary["status"] == "finished" else "\n" + textwrap.shorten(summary["status"], 80)
+    fonts.set_title(ax_p, f"{summary['title']}: {len(h['step'])} steps{status}", fontsize=10)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.ticklabel_format(axis="y", useOffset=False)
+    drawn = {line.get_label(): (np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float))
+             for ax in axes for line in ax.get_lines()}
+    try:
+        with replacing(path, Path(path).suffix) as tmp:
+            fig.savefig(tmp, dpi=110)
+    finally:
+        plt.close(fig)
+    return drawn

@@ -1,5 +1,7 @@
-"""A result folder: which files a wingcrack result holds, getting a folder
-ready for a new result, and reading a result back.
+"""A result folder: which files a wingcrack result holds, its name, its
+lock, getting it ready for a new result or for resuming the run it holds,
+and reading a result back. Under a launcher (parallel.launched) rank 0 does
+the folder's work and every rank raises its refusal.
 
 `wingcrack run` writes summary.json, step_XXXX.vtu and faces_XXXX.vtu (one
 of each per step), fields.pvd and faces.pvd (their ParaView indices),
@@ -37,7 +39,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import interrupt
 from ..errors import FolderError
+from ..parallel import launched
 
 SUMMARY = "summary.json"
 FIELDS_PVD, FACES_PVD = "fields.pvd", "faces.pvd"
@@ -86,6 +90,62 @@ def _names(files) -> str:
     return ", ".join(named + ([f"{len(steps)} step files"] if steps else []))
 
 
+def check_folder_name(out) -> None:
+    """FolderError for an output folder named by an empty or blank string:
+    Path("") is the current folder, where the result would land among
+    whatever is there."""
+    if isinstance(out, str) and not out.strip():
+        raise FolderError(repr(out), "an empty folder name (it would mean the current folder; say . for that)")
+
+
+def folder_path(text: str) -> Path:
+    """The folder a command line names, as a Path: FolderError for a name
+    that is empty or only blanks (check_folder_name) or that the system
+    refuses outright."""
+    check_folder_name(str(text))
+    try:
+        os.stat(text)
+    except (FileNotFoundError, NotADirectoryError):
+        pass   # a new folder, or one below a file: prepare() says which
+    except OSError as err:   # a name too long, a symlink loop: no file operation on it can work
+        raise FolderError(text, f"cannot use the path ({err.strerror or err})") from None
+    return Path(text)
+
+
+def _world():
+    """MPI.COMM_WORLD where the folder's work is collective (launched), else None."""
+    if not launched():
+        return None
+    from mpi4py import MPI   # here: a serial command never starts MPI
+
+    return MPI.COMM_WORLD
+
+
+def _on_root(work, comm):
+    """work() on rank 0 of comm (None: here); every rank raises its FolderError."""
+    problem = None
+    if comm is None or comm.rank == 0:
+        try:
+            work()
+        except FolderError as err:
+            problem = (err.path, err.reason)
+    if comm is not None and comm.size > 1:
+        problem = comm.bcast(problem, root=0)
+    if problem is not None:
+        raise FolderError(*problem)
+
+
+def prepare_for_result(out, force: bool = False) -> Path:
+    """prepare(out, force) on rank 0, the previous result deleted whole or
+    not at all (a Ctrl-C waits for it); every rank raises its FolderError."""
+    def work():
+        with interrupt.deferred():
+            prepare(out, force)
+
+    _on_root(work, _world())
+    return Path(out)
+
+
 def prepare(out, force: bool = False) -> Path:
     """Make `out` ready for a new result and return it as a Path.
 
@@ -113,15 +173,16 @@ def prepare(out, force: bool = False) -> Path:
 
 
 @contextlib.contextmanager
-def locked(folder, create: bool = False, comm=None):
+def locked(folder, create: bool = False):
     """Hold the lock of `folder` within (see the module doc); FolderError
     "is in use by another wingcrack run (pid N)" at once when another process
     holds it. Re-entrant within a process (the CLI holds it for the command,
     the api may take it again). `create`: make the folder first if it is
     missing (a new result's folder). A folder that is missing (and not to be
     created), is not a folder, or cannot be opened or locked is not locked
-    here: the command itself then reports why it cannot use it. `comm`
-    (MPI): rank 0 takes the lock and every rank raises its refusal."""
+    here: the command itself then reports why it cannot use it. Under a
+    launcher rank 0 takes the lock and every rank raises its refusal."""
+    comm = _world()
     rank = 0 if comm is None else comm.rank
     key, holder = None, None
     if rank == 0:
@@ -181,6 +242,65 @@ def _lock_holder(fd) -> int:
     except OSError:
         pass
     return 0
+
+
+def open_to_resume(out) -> Path:
+    """`out` as a Path, ready for `run --resume` to read its checkpoint:
+    FolderError when there is no folder to resume, or it cannot be written;
+    the temporary files a run stopped while the folder refused removals
+    left are removed."""
+    if out is None:
+        raise FolderError(Path("."), "--resume needs the output folder of the run (-o)")
+    out = Path(out)
+    if not out.is_dir():
+        raise FolderError(out, "does not exist: nothing to resume")
+    check_writable(out)
+    for p in leftovers(out):
+        p.unlink(missing_ok=True)
+    return out
+
+
+def no_checkpoint(out) -> str | None:
+    """Why a folder that holds a result but no checkpoint cannot be resumed:
+    its run ended before committing a step (a step that stops the run is
+    recorded, not checkpointed). None when that is not the case."""
+    if (Path(out) / CHECKPOINT).exists():
+        return None
+    try:
+        status = json.loads((Path(out) / SUMMARY).read_text())["status"]
+    except Exception:  # noqa: BLE001 - no readable summary: the generic message
+        return None
+    return (f"holds a result (\"{status}\") without checkpoint.npz: no step of a run was committed there (a `sif` "
+            "result, or a run that stopped in its first step), so nothing to resume; run it again without --resume "
+            "(with --force)")
+
+
+def check_resumable(out: Path, done: int, asked: int) -> None:
+    """FolderError unless the run in `out`, whose checkpoint holds `done`
+    finished steps, can go on to `asked` (the case's propagation.steps):
+    fewer asked, it would end at once and call `asked` steps "finished"
+    with `done` of them (as many: it finishes what a stop left, the pictures
+    and the final status); and every finished step's files must be there,
+    or the resumed result would have a hole."""
+    if asked < done:
+        raise FolderError(out, f"holds {done} finished step{'' if done == 1 else 's'}, more than the case's "
+                               f"propagation.steps = {asked}: nothing to resume; ask for more steps to go on")
+    for k in range(done):
+        for name in (fields_name(k), faces_name(k)):
+            if not (out / name).is_file():
+                raise FolderError(out, f"{name} of finished step {k} is missing: the result cannot be "
+                                       "completed; start the run again without --resume (with --force)")
+
+
+def resumable_steps(out: Path) -> int:
+    """The finished steps of the run in `out` that --resume goes on from:
+    summary.json's, where the checkpoint exists (0 without one)."""
+    try:
+        if not (out / CHECKPOINT).is_file():
+            return 0
+        return len(json.loads((out / SUMMARY).read_text(encoding="utf-8"))["steps"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return 0
 
 
 def check_writable(folder) -> Path:

@@ -10,15 +10,7 @@ from __future__ import annotations
 from .. import interrupt
 from ..errors import FolderError, WriteError
 from . import animation as animations, fonts, history as histories, pictures
-from .outdir import check_writable, read_result
-
-
-def check_folder_name(out) -> None:
-    """FolderError for an output folder named by an empty or blank string:
-    Path("") is the current folder, where the result would land among
-    whatever is there (the command line refuses `-o ""` the same way)."""
-    if isinstance(out, str) and not out.strip():
-        raise FolderError(repr(out), "an empty folder name (it would mean the current folder; say . for that)")
+from .outdir import check_folder_name, check_writable, read_result
 
 
 def draw_pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:

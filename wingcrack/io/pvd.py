@@ -4,14 +4,18 @@ that ParaView opens a whole run as one time series.
 The time of each entry is the step number, not the load factor: the load
 factor repeats when growth is unstable (no load increase is needed for the
 next step) and may even fall, and ParaView needs strictly increasing times.
-The load factor is in each step file's field data (`load_factor`, with
-`step`); ParaView shows it with "Annotate Global Data" or plots it with
-"Plot Data Over Time".
+A run with a physical time (a pump: load = "injection") has the steps'
+times instead (s; steps at one time, unstable growth, a rounding apart:
+`increasing`). The load factor is in each step file's field data
+(`load_factor`, with `step`, and `time` where there is one); ParaView shows
+it with "Annotate Global Data" or plots it with "Plot Data Over Time".
 """
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from pathlib import Path
+
+import numpy as np
 
 from .atomic import write_atomic
 
@@ -34,6 +38,16 @@ def write_pvd(path, files, times=None) -> Path:
     ET.indent(root)
     write_atomic(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return path
+
+
+def increasing(times) -> list[float]:
+    """`times` (non-decreasing) made strictly increasing by the least change:
+    a time equal to the one before becomes the next float above it."""
+    out = []
+    for t in times:
+        t = float(t)
+        out.append(t if not out or t > out[-1] else float(np.nextafter(out[-1], np.inf)))
+    return out
 
 
 def read_pvd(path) -> list[tuple[float, str]]:

@@ -3,10 +3,12 @@
 
 OUT/checkpoint.npz holds what the next step needs and nothing it can
 recompute: the fracture set (polylines, pre-existing range, end states,
-faces, friction, cohesion, the fluid pressure after connection and what
-each joined end met), the load factor, the finished steps'
-records, and the error-estimate size field of the next mesh (so that a
-resumed run meshes exactly as an uninterrupted one). It is written
+the face law by its field names beside them, its fluid pressure the one
+after connection, and what each joined end met), the load factor, the
+finished steps' records, the error-estimate size field of the next mesh
+(so that a resumed run meshes exactly as an uninterrupted one) and, with a
+pump, its state (the injected network, the fluid it held without the pump,
+the last step's time and pressure: propagation.injection.Pump.to_dict). It is written
 atomically (temporary file, fsync, rename): a kill leaves the previous
 checkpoint or the new one, never half of one. A fingerprint of the case
 (everything but propagation.steps, so a run may also be resumed with more
@@ -25,14 +27,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import write_atomic
 from ..contact.slip_history import SlipHistory
+from ..face_law import FaceLaw
+from ..io.atomic import write_atomic
 from .fracture_set import FractureSet, GrowingFracture
 
 NAME = "checkpoint.npz"
 #: 2: the fractures' friction and cohesion; 3: their fluid pressure and joined_to; 4: the case's keys
-#: (case_keys), the title out of the fingerprint.
-VERSION = 4
+#: (case_keys), the title out of the fingerprint; 5: the pump's state (and the case's [injection]).
+VERSION = 5
 
 
 def _case_text(case) -> str:
@@ -94,12 +97,13 @@ def _plain(obj):
     return repr(obj)
 
 
-def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None, patch=None) -> None:
+def save(out, case, k: int, fset: FractureSet, lam: float, steps: list, sizes, history=None, patch=None,
+         pump=None) -> None:
     """steps: the finished steps' records (dicts); history: the converged
     slip of the Coulomb faces (SlipHistory, or None); patch: the run's
     propagation.patch.Patch (None: none), so that a resumed run meshes as
-    the uninterrupted one."""
-    _save(out, (fingerprint(case), case_keys(case)), k, fset, lam, steps, None, sizes, history, patch)
+    the uninterrupted one; pump: the pump's state (a dict, or None)."""
+    _save(out, (fingerprint(case), case_keys(case)), k, fset, lam, steps, None, sizes, history, patch, pump)
 
 
 class Writer:
@@ -113,16 +117,17 @@ class Writer:
         self.out, self.case = out, (fingerprint(case), case_keys(case))
         self._texts = StepTexts(lambda r: json.dumps(r.to_dict(), default=_plain))
 
-    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None, patch=None) -> None:
+    def save(self, k: int, fset: FractureSet, lam: float, records: list, sizes, history=None, patch=None,
+             pump=None) -> None:
         """records: the finished steps (results.StepRecord)."""
-        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history, patch)
+        _save(self.out, self.case, k, fset, lam, None, self._texts(records), sizes, history, patch, pump)
 
 
 #: where the steps' texts go in the meta's text (no case text holds NULs)
 _STEPS_MARK = "\0steps of the checkpoint\0"
 
 
-def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None) -> None:
+def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patch=None, pump=None) -> None:
     """case_print: (fingerprint, case_keys) of the case."""
     from ..version import __version__
 
@@ -130,11 +135,10 @@ def _save(out, case_print, k, fset, lam, steps, step_texts, sizes, history, patc
         "version": VERSION, "case": case_print[0], "case_keys": case_print[1], "wingcrack": __version__,
         "step": k, "load_factor": lam,
         "patch": None if patch is None else patch.to_list(),
+        "pump": pump,
         "steps": steps if step_texts is None else _STEPS_MARK,
-        "fractures": [{"pre": list(f.pre), "ends": list(f.ends), "faces": f.faces, "gap": f.gap, "slip": f.slip,
-                       "slip_profile": f.slip_profile, "grow": f.grow, "friction": f.friction, "cohesion": f.cohesion,
-                       "pressure": f.pressure, "joined_to": list(f.joined_to)}
-                      for f in fset.fractures],
+        "fractures": [{"pre": list(f.pre), "ends": list(f.ends), **f.law.to_dict(), "grow": f.grow,
+                       "joined_to": list(f.joined_to)} for f in fset.fractures],
     }
     arrays = {f"points_{i}": f.points for i, f in enumerate(fset.fractures)}
     if sizes is not None:
@@ -166,7 +170,7 @@ def _patch(values):
 
 
 def load(out, case) -> dict:
-    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history', 'patch'} of the checkpoint in
+    """{'step', 'load_factor', 'steps', 'fset', 'sizes', 'history', 'patch', 'pump'} of the checkpoint in
     `out`; ValueError naming the file and the reason when there is none, it
     cannot be read (truncated, empty, not a checkpoint, keys missing) or it
     belongs to another case."""
@@ -203,14 +207,12 @@ def load(out, case) -> dict:
                          f"case otherwise than this {__version__} (no key of the case differs); start the run "
                          "again without --resume (with --force)")
     try:
-        fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), m["faces"], m["gap"],
-                                     m["slip"], m["slip_profile"], m["grow"],
-                                     _coefficient(m, "friction"), _coefficient(m, "cohesion"),
-                                     _coefficient(m, "pressure"), _joined_to(m, len(meta["fractures"])))
+        fractures = [GrowingFracture(_points(p), tuple(m["pre"]), list(m["ends"]), law=FaceLaw.from_dict(m),
+                                     grow=m["grow"], joined_to=_joined_to(m, len(meta["fractures"])))
                      for p, m in zip(points, meta["fractures"])]
         state = {"step": int(meta["step"]), "load_factor": float(meta["load_factor"]), "steps": list(meta["steps"]),
                  "fset": FractureSet(fractures, FractureSet.case_links(case)), "sizes": sizes, "history": history,
-                 "patch": _patch(meta.get("patch"))}
+                 "patch": _patch(meta.get("patch")), "pump": _pump(meta.get("pump"), case, len(fractures))}
         _consistent(state)
     except (KeyError, TypeError, ValueError) as err:
         raise ValueError(f"{path} cannot be read as a checkpoint (damaged: {_reason(err)}); "
@@ -232,6 +234,26 @@ def _consistent(state) -> None:
         raise ValueError(f"the load factor {lam!r} is not that of step {k}")
 
 
+def _pump(d, case, n: int):
+    """The pump's state (Pump.to_dict) of a pumped case's checkpoint,
+    checked: the network a list of fractures holding the injected one, held,
+    time and pressure finite and >= 0, closing a number or None; None for
+    a case without a pump."""
+    if case.injection is None:
+        return None
+    if not isinstance(d, dict):
+        raise ValueError(f"pump {d!r} is no pump's state")
+    net = d.get("network")
+    if not isinstance(net, list) or case.injection.fracture not in net or \
+            not all(isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n for i in net):
+        raise ValueError(f"the pump's network {net!r} is not one of these fractures")
+    for key in ("held", "time", "pressure"):
+        _coefficient(d, key)
+    if d.get("closing") is not None and not (isinstance(d["closing"], (int, float)) and math.isfinite(d["closing"])):
+        raise ValueError(f"the pump's closing pressure {d['closing']!r} is not a number")
+    return d
+
+
 def _points(p) -> np.ndarray:
     p = np.asarray(p, float)
     if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.all(np.isfinite(p)):
@@ -240,9 +262,8 @@ def _points(p) -> np.ndarray:
 
 
 def _coefficient(m: dict, name: str) -> float:
-    """A fracture's friction, cohesion or pressure: finite and >= 0, as the
-    case reader asks (a NaN would pass into the friction bound or the face
-    loads unseen)."""
+    """A number of the pump's state: finite and >= 0 (a NaN would pass into
+    the balance unseen)."""
     v = m[name]
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
         raise ValueError(f"{name} {v!r} is not a finite number >= 0")

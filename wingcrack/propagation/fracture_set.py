@@ -10,50 +10,59 @@ set's `links`), are hydraulically connected (connect_pressures).
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from meshing import admissibility
 
+from ..face_law import FaceLaw
+
 
 @dataclass
 class GrowingFracture:
-    """One fracture of the network. faces, gap, slip, slip_profile, grow,
-    friction (Coulomb mu) and cohesion (Pa) are the case fracture's; the
-    wings take wing_faces() with the same friction and cohesion.
-
-    pressure: the fluid pressure (Pa, at load factor 1) in the fracture and
-    its wings: the case's, raised by FractureSet.connect_pressures once it is
-    connected to a fracture with a higher one. joined_to: per end, the index
-    of the fracture that end met ("joined": as a T-junction on it, or tip to
-    tip with one of its ends), else None."""
+    """One fracture of the network. law: its face law (wingcrack.face_law;
+    the wings take law.wings()), whose pressure is the case's, raised by
+    FractureSet.connect_pressures once the fracture is connected to one with
+    a higher pressure. grow: whether its tips may grow. joined_to: per end,
+    the index of the fracture that end met ("joined": as a T-junction on
+    it, or tip to tip with one of its ends), else None."""
 
     points: np.ndarray
     pre: tuple[int, int]
     ends: list          # [state of end 0, state of end 1]
-    faces: str
-    gap: float
-    slip: float
-    slip_profile: str
-    grow: bool
-    friction: float = 0.0
-    cohesion: float = 0.0
-    pressure: float = 0.0
+    law: FaceLaw = FaceLaw()
+    grow: bool = True
     joined_to: list = field(default_factory=lambda: [None, None])
+
+    @classmethod
+    def of(cls, fracture, ends: list, joined_to: list) -> GrowingFracture:
+        """The case's `fracture` (case.Fracture) as it starts to grow: its
+        polyline (a copy) all pre-existing, its face law and whether it
+        grows."""
+        points = np.asarray(fracture.points, float).copy()
+        return cls(points, (0, len(points) - 1), ends, law=fracture.law, grow=fracture.grow, joined_to=joined_to)
+
+    def __getattr__(self, name):
+        """The face law's fields by their former names (f.pressure is
+        f.law.pressure), for code that read them from a run's
+        fractures (RunResult.fractures), with a DeprecationWarning."""
+        if name in FaceLaw.names():
+            warnings.warn(f"GrowingFracture.{name} is deprecated: read GrowingFracture.law.{name}",
+                          DeprecationWarning, stacklevel=2)
+            return getattr(self.law, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __setattr__(self, name, value):
+        if name in FaceLaw.names():   # it would be a second value beside the law's, read by nothing
+            raise AttributeError(f"GrowingFracture.{name} is the face law's: set law = "
+                                 f"dataclasses.replace(law, {name}=...)")
+        super().__setattr__(name, value)
 
     @property
     def pre_points(self) -> np.ndarray:
         return self.points[self.pre[0]:self.pre[1] + 1]
-
-    def wing_faces(self) -> str:
-        """Wings are tensile cracks (paper eq. 8); where the fracture has
-        contact, they get non-penetration too, never a prescribed slip: on a
-        coulomb fracture with its friction and cohesion (friction acts on
-        every face, wings included), frictionless otherwise."""
-        if self.faces in ("open", "coulomb"):
-            return self.faces
-        return "frictionless"
 
     def tip(self, end: int) -> np.ndarray:
         return self.points[-1] if end == 1 else self.points[0]
@@ -103,12 +112,10 @@ class FractureSet:
         joined = net.joined_ends()
         out = []
         for i, f in enumerate(case.fractures):
-            pts = np.asarray(f.points, float).copy()
+            pts = np.asarray(f.points, float)
             ends = ["boundary" if case.domain.on_boundary(p, tol) else "joined" if (i, e) in joined else "tip"
                     for e, p in enumerate((pts[0], pts[-1]))]
-            out.append(GrowingFracture(pts, (0, len(pts) - 1), ends, f.faces, f.gap, f.slip,
-                                       f.slip_profile, f.grow, f.friction, f.cohesion, f.pressure,
-                                       joined_to=[joined.get((i, e)) for e in (0, 1)]))
+            out.append(GrowingFracture.of(f, ends, [joined.get((i, e)) for e in (0, 1)]))
         return cls(out, crossings(net))
 
     @staticmethod
@@ -152,16 +159,21 @@ class FractureSet:
             groups.setdefault(root(i), []).append(i)
         return sorted(groups.values())
 
-    def connect_pressures(self) -> bool:
+    def connect_pressures(self, exclude=()) -> bool:
         """Every connected group takes the highest pressure among its
         fractures (the injected fluid floods what it reaches; nothing drains
-        it). Returns whether any pressure changed."""
+        it), but a group holding a fracture of `exclude` (a pumped network,
+        whose pressure is its fluid balance's). Returns whether any pressure
+        changed."""
         changed = False
         for group in self.connected_groups():
-            p = max(self.fractures[i].pressure for i in group)
+            if set(group) & set(exclude):
+                continue
+            p = max(self.fractures[i].law.pressure for i in group)
             for i in group:
-                if self.fractures[i].pressure != p:
-                    self.fractures[i].pressure = p
+                f = self.fractures[i]
+                if f.law.pressure != p:
+                    f.law = replace(f.law, pressure=p)
                     changed = True
         return changed
 

@@ -41,8 +41,8 @@ from .joining import placement
 REACH = admissibility.TIP_CLEARANCE
 #: relative tolerance of "K_eq reached KIc". Tips that the discretisation
 #: cannot tell apart (displacement correlation is ~1e-3 accurate; the two
-#: tips of the symmetric disc differ by ~3e-5 on an unsymmetric mesh) grow
-#: together, as the symmetric physics says.
+#: tips of a point-symmetric geometry differ by ~3e-5 on a mesh that is not
+#: symmetric) grow together, as the symmetric physics says.
 KEQ_RTOL = 1e-3
 #: kink angles (rad) and advances (in propagation.length) are rounded to
 #: these grids before the geometry is built (parallel.snap: 1 and N
@@ -206,8 +206,7 @@ def clear_of_own_fracture(fset, fi: int, end: int, grown, rule: Rule, domain) ->
     included. Near its own polyline that is no join but an artefact of short
     steps: after a kink, the next step's end is about two step lengths from
     the kink point, within reach whenever the length is under 0.75 tip_size
-    (the 45-degree disc with length = tip_size / 2 sat at KIc without
-    growing). The tip goes on if its new segment crosses nothing, it stays
+    (with length = tip_size / 2 a tip would sit at KIc without growing). The tip goes on if its new segment crosses nothing, it stays
     `reach` from the boundary and every other fracture (else place_tip would
     have joined them), and the next mesh takes it: the mesher's own rules
     (meshing.admissibility.rosettes) for every free tip's rosette on the
@@ -216,10 +215,10 @@ def clear_of_own_fracture(fset, fi: int, end: int, grown, rule: Rule, domain) ->
     p, a = grown[-1], grown[-2]
     if not domain.contains(p) or domain.distance_to_boundary(p) <= rule.reach:
         return False
-    for s in range(len(grown) - 3):     # the new segment crosses none of the earlier ones
-        hit, _, _, _ = K.segment_intersection(a, p, grown[s], grown[s + 1], 1e-12)
-        if hit:
-            return False
+    earlier = max(len(grown) - 3, 0)     # the new segment crosses none of the earlier ones
+    if K.segment_intersections(np.tile(a, (earlier, 1)), np.tile(p, (earlier, 1)), grown[:earlier],
+                               grown[1:earlier + 1], 1e-12)[0].any():
+        return False
     polylines, tips = [], []
     for g, other in enumerate(fset.fractures):
         if g == fi:
@@ -277,11 +276,11 @@ def crossing_pair(polys, pre=None):
             return (index[k] >= first[owner[k]]) & (index[k] + 1 <= last[owner[k]])
         keep &= ~(is_pre(i) & is_pre(j))
     i, j = i[keep], j[keep]
-    for k in np.lexsort((index[j], index[i], owner[j], owner[i])):
-        hit, t, u, _ = K.segment_intersection(a[i[k]], b[i[k]], a[j[k]], b[j[k]], 1e-12)
-        if hit and 1e-9 < t < 1 - 1e-9 and 1e-9 < u < 1 - 1e-9:
-            return int(owner[i[k]]), int(owner[j[k]])
-    return None
+    order = np.lexsort((index[j], index[i], owner[j], owner[i]))
+    i, j = i[order], j[order]
+    hit, t, u, _ = K.segment_intersections(a[i], b[i], a[j], b[j], 1e-12)
+    crossed = np.flatnonzero(hit & (1e-9 < t) & (t < 1 - 1e-9) & (1e-9 < u) & (u < 1 - 1e-9))
+    return (int(owner[i[crossed[0]]]), int(owner[j[crossed[0]]])) if len(crossed) else None
 
 
 def check_no_crossing(fset) -> None:

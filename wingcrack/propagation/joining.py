@@ -25,18 +25,33 @@ import wingcrack_kernels as K
 
 
 def _segments_of(fset, skip):
-    """(polyline index, a, b) of every fracture segment, except the one at
-    the growing tip (skip = (fracture, end))."""
-    out = []
+    """(owner (k,), a (k, 2), b (k, 2)): every fracture segment [a, b] and
+    the index of its polyline, except the one at the growing tip (skip =
+    (fracture, end))."""
     fi, end = skip
+    owner, a, b = [], [], []
     for i, f in enumerate(fset.fractures):
-        pts = f.points
-        n = len(pts) - 1
-        for s in range(n):
-            if i == fi and ((end == 1 and s == n - 1) or (end == 0 and s == 0)):
-                continue
-            out.append((i, pts[s], pts[s + 1]))
-    return out
+        pts = np.asarray(f.points, float)
+        lo, hi = 0, len(pts) - 1
+        if i == fi:
+            lo, hi = (lo, hi - 1) if end == 1 else (lo + 1, hi)
+        owner.append(np.full(max(hi - lo, 0), i))
+        a.append(pts[lo:hi])
+        b.append(pts[lo + 1:hi + 1])
+    return np.concatenate(owner), np.concatenate(a).reshape(-1, 2), np.concatenate(b).reshape(-1, 2)
+
+
+def _first_hit(a, b, p, q, after: float):
+    """(index, t) of the first of the segments [p, q] (k, 2) that a -> b
+    hits at t > after (t along a -> b; the first listed of equal t), or
+    None."""
+    k = len(p)
+    hit, t, _, _ = K.segment_intersections(np.tile(a, (k, 1)), np.tile(b, (k, 1)), p, q, 1e-12)
+    hits = np.flatnonzero(hit & (t > after))
+    if not len(hits):
+        return None
+    first = hits[np.argmin(t[hits])]
+    return int(first), float(t[first])
 
 
 def _boundary_hit(domain, a, b):
@@ -54,13 +69,9 @@ def _boundary_hit(domain, a, b):
             if 0 < t <= 1:
                 return t
         return None
-    v = domain.vertices()
-    best = None
-    for k in range(len(v)):
-        hit, t, _, _ = K.segment_intersection(a, b, v[k], v[(k + 1) % len(v)], 1e-12)
-        if hit and t > 1e-12 and (best is None or t < best):
-            best = t
-    return best
+    v = np.asarray(domain.vertices(), float)
+    first = _first_hit(a, b, v, np.roll(v, -1, axis=0), 1e-12)
+    return None if first is None else first[1]
 
 
 def place_tip(fset, fi: int, end: int, direction, length: float, domain, reach: float):
@@ -82,10 +93,10 @@ def placement(fset, fi: int, end: int, direction, length: float, domain, reach: 
     # fracture or boundary is found as a crossing along the direction
     b_far = a + d * (length + reach)
     best_t, state, met = None, "tip", None
-    for i, p, q in _segments_of(fset, (fi, end)):
-        hit, t, _, _ = K.segment_intersection(a, b_far, p, q, 1e-12)
-        if hit and t > 1e-9 and (best_t is None or t < best_t):
-            best_t, state, met = t, "joined", i
+    owner, p, q = _segments_of(fset, (fi, end))
+    first = _first_hit(a, b_far, p, q, 1e-9)
+    if first is not None:
+        best_t, state, met = first[1], "joined", int(owner[first[0]])
     tb = _boundary_hit(domain, a, b_far)
     if tb is not None and (best_t is None or tb < best_t):
         best_t, state, met = tb, "boundary", None

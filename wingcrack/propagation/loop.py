@@ -38,6 +38,7 @@ from ..results import LastSolve, StepRecord, dataframe, tip_rows
 from .. import progress as progress_now
 from .. import interrupt
 from . import checkpoint, growth
+from . import injection
 from .critical_load import critical_load_factor, scales_with_load
 from .fracture_set import FractureSet
 from .patch import next_patch
@@ -206,7 +207,8 @@ class _Run:
         self.mesh_timeout, self.next_mesh = mesh_timeout, next_mesh
         self.fset = FractureSet.from_case(case)
         self.rule = growth.Rule.of(case)
-        self.lam = 0.0 if self.prop.load in SEARCHED else 1.0
+        self.pump = injection.Pump.of(case) if self.prop.load == "injection" else None
+        self.lam = 0.0 if self.prop.load in SEARCHED else self.pump.pressure if self.pump else 1.0
         self.records = []
         self.disc = None
         self.shown = None   # the discretisation of the last recorded step, while it is not released
@@ -228,6 +230,8 @@ class _Run:
         self.fset, self.lam, self.sizes, self.k = ck["fset"], ck["load_factor"], ck["sizes"], ck["step"] + 1
         self.history, self.patch = ck["history"], ck["patch"]
         self.records = [StepRecord.from_dict(s) for s in ck["steps"]]
+        if self.pump is not None:
+            self.pump.restore(ck["pump"])
 
     def begin(self, frozen):
         """The first step's mesh is begun before DOLFINx is imported: its gmsh
@@ -241,6 +245,10 @@ class _Run:
         self.patch = next_patch(self.patch, self.case, self.fset)
         self.next_mesh.request = step.start_mesh(self.case, self.fset.fractures, sizes=self.sizes,
                                                  timeout=self.mesh_timeout, patch=self.patch)
+
+    def network(self):
+        """With a pump, the injected network's fractures ((n,) bool), else None."""
+        return None if self.pump is None else self.pump.mask(len(self.fset.fractures))
 
     def step(self, k):
         """Step k: mesh, the critical load, solve, SIFs, growth, the next mesh
@@ -258,6 +266,7 @@ class _Run:
         if not grow:
             return no_tip_left(self.records)
         solves = 1
+        pumped = None
         if prop.load in SEARCHED:
             progress_now.doing("the critical-load search")
             homogeneous = _homogeneous(case, disc, fset)   # before the solves: they may accept a slip
@@ -265,8 +274,16 @@ class _Run:
             if crit.load_factor is None:
                 return self.at_the_limit(k, disc, grow, timer, int(crit.solves) + 1)
             held, self.lam, solves = self.lam, crit.load_factor, int(crit.solves)
+        elif self.pump is not None:
+            progress_now.doing("the fluid balance and the critical pressure")
+            pumped = injection.critical(self.pump, disc, fset.fractures, _keq(case, disc, fset, grow),
+                                        case.material.KIc, case.material.E,
+                                        _homogeneous(case, disc, fset, self.network()), _pressure_scale(case))
+            if pumped.stop is not None:
+                return self.pump_stopped(k, disc, grow, timer, pumped)
+            self.lam, solves = pumped.pressure, pumped.solves
         progress_now.doing(f"the solve at load factor {self.lam:.6g}")
-        disc.solve(self.lam)
+        disc.solution_at(self.lam)   # the search's last trial is often at it
         timer.lap("solve")
         interrupt.check()
         progress_now.doing("the stress intensity factors")
@@ -274,6 +291,7 @@ class _Run:
         timer.lap("sif")
         # the converged slip along the fractures as meshed (before they grow): the next mesh's reference
         converged = _slip_history(disc, fset)
+        fluid = None if pumped is None else self.fluid_state(disc, pumped)   # before growth: the step's geometry
 
         candidates = growth.candidates(tips, disc.cm, grow)
         if prop.load == "fixed" and not growth.reached(candidates, self.rule).any():
@@ -287,7 +305,7 @@ class _Run:
         if not grown.grew:
             # nothing moved: the next step would be this one again. Recorded (not
             # checkpointed: a resumed run solves it again and stops the same way)
-            self.record(self.finished(k, self.lam, disc, tips, timer, solves=solves), disc)
+            self.record(self.finished(k, self.lam, disc, tips, timer, solves=solves, fluid=fluid), disc)
             return f"stopped: no tip can grow ({grown.why_none()})"
         if case.mesh.adaptive:
             from ..adaptivity import next_sizes   # DOLFINx's: imported by preload() before the first step
@@ -298,12 +316,54 @@ class _Run:
             # step k+1's mesh is made while step k is written; it fails (if it does) as step k+1
             self.request_mesh()
             timer.lap("mesh")
-        record = self.finished(k, self.lam, disc, tips, timer, solves=solves,
+        record = self.finished(k, self.lam, disc, tips, timer, solves=solves, fluid=fluid,
                                states=[t.state for t in grown.tips], advances=[t.advance for t in grown.tips])
         if prop.load in SEARCHED:
             record.critical_load_factor = _own_critical(case, tips, grow, self.lam, held, homogeneous)
-        self.commit(k, record, disc, converged)
+        elif pumped is not None and not pumped.unstable:
+            record.critical_load_factor = self.lam   # the critical pressure of the step's geometry
+        self.commit(k, record, disc, converged, fluid)
         return None
+
+    def fluid_state(self, disc, pumped) -> dict:
+        """The pumped step's fluid, at its solution and on its geometry
+        (before growth): the step, each fracture's volume and pressure, the
+        hydraulic groups and lengths (injection.step_record's)."""
+        fractures = self.fset.fractures
+        return {"step": pumped, "volumes": self.pump.volumes(disc, fractures), "groups": self.pump.groups(self.fset),
+                "pressures": disc.pressure_at(pumped.pressure),
+                "lengths": [float(np.linalg.norm(np.diff(f.points, axis=0), axis=1).sum()) for f in fractures]}
+
+    def pump_stopped(self, k, disc, grow, timer, pumped) -> str:
+        """The pump stops the run before a tip reaches KIc (end_time or
+        shut-in), or the pressure would pass its limit: the state where it
+        stops is recorded (a result too, as at the load factor limit: the
+        user sees how far from KIc the tips stayed) and the status says it."""
+        pump, E = self.pump, self.case.material.E
+        if pumped.stop == "limit":
+            limit = pump.search_limit(E)
+            disc.solve(limit)
+            v = pump.network_volume(disc, self.fset.fractures)
+            pumped.pressure, pumped.volume, pumped.time = limit, v, max(pump.time_of(v, limit), pump.time)
+            pumped.history.append((pumped.time, limit, v))
+        else:
+            injection.stopped(pump, pumped, disc, self.fset.fractures, _pressure_scale(self.case))
+        timer.lap("solve")
+        tips = disc.sifs(self.case, self.fset.polylines())
+        timer.lap("sif")
+        self.record(self.finished(k, pumped.pressure, disc, tips, timer, solves=pumped.solves + 1,
+                                  fluid=self.fluid_state(disc, pumped)), disc)
+        ratio = max(tips[i].K_eq for i in grow) / self.case.material.KIc
+        said = f"{ratio:.3g}" if ratio >= ROUND_OFF_K else "0"
+        need = "" if pumped.needed is None else f"; they need {pumped.needed:.6g} Pa"
+        below = f"the largest K_eq is {said} KIc{need}"
+        p, t = pumped.pressure, pumped.time
+        if pumped.stop == "limit":
+            return f"stopped: no tip reaches KIc below the pressure limit 0.1 E = {p:.6g} Pa (there {below})"
+        if t == pump.schedule.end:
+            return f"stopped: end_time reached: at {t:g} s the network holds {p:.6g} Pa ({below})"
+        return (f"stopped: shut-in from {t:g} s: the network's fluid holds {p:.6g} Pa ({below}), and no more "
+                "comes")
 
     def discretise(self, timer):
         """This step's discretisation, the last one's factors released first."""
@@ -311,7 +371,8 @@ class _Run:
         self.disc = self.shown = None
         disc = self.disc = step.discretise(self.case, self.fset.fractures, timer, sizes=self.sizes,
                                            timeout=self.mesh_timeout, history=self.history,
-                                           mesh=self.next_mesh.take(), patch=self.patch, far=self.far)
+                                           mesh=self.next_mesh.take(), patch=self.patch, far=self.far,
+                                           network=self.network())
         if disc.far is not self.far and self.far is not None:
             self.far.destroy()   # the patch moved on: its far field is another
         self.far = disc.far
@@ -334,21 +395,34 @@ class _Run:
         return f"stopped: no tip reaches KIc below the load factor limit {limit:g} (there the " \
             f"largest K_eq is {said} KIc)" + ("" if _scaled_load(self.case) else NOTHING_SCALES)
 
-    def finished(self, k, lam, disc, tips, timer, **more):
-        """Step k's record, its files written."""
-        return step.finish(self.out, k, lam, disc, tips, timer, KIc=self.case.material.KIc, **more)
+    def finished(self, k, lam, disc, tips, timer, fluid=None, **more):
+        """Step k's record, its files written; with a pump (fluid: fluid_state)
+        its time, injection and networks, the time the PVD's axis."""
+        if fluid is None:
+            return step.finish(self.out, k, lam, disc, tips, timer, KIc=self.case.material.KIc, **more)
+        pumped = injection.step_record(self.pump, fluid["step"], fluid["volumes"], fluid["groups"],
+                                       fluid["pressures"], fluid["lengths"])
+        times = [r.time for r in self.records] + [pumped["time"]]
+        record = step.finish(self.out, k, lam, disc, tips, timer, KIc=self.case.material.KIc, times=times, **more)
+        record.time, record.injection, record.networks = pumped["time"], pumped["injection"], pumped["networks"]
+        return record
 
     def record(self, record, disc):
         self.records.append(record)
         self.shown = disc
 
-    def commit(self, k, record, disc, converged):
+    def commit(self, k, record, disc, converged, fluid=None):
         """Step k committed whole: its record, the fractures grown, summary.json
-        and the checkpoint agree (an interrupt waits until they do)."""
+        and the checkpoint agree (an interrupt waits until they do). With a
+        pump (fluid: fluid_state), its time and pressure are the run's, and
+        the fractures joined enter the network."""
         with interrupt.deferred():
             self.record(record, disc)
+            if self.pump is not None:
+                self.pump.advance(fluid["step"], self.done.fractures)
+                self.pump.join(self.fset, fluid["volumes"], fluid["pressures"])
             if self.prop.connect_pressure:   # the next step meshes and loads with the connected pressures
-                self.fset.connect_pressures()
+                self.fset.connect_pressures(exclude=() if self.pump is None else self.pump.network)
             self.done = self.fset.copy()
             self.history = converged
             self.last = record
@@ -357,7 +431,7 @@ class _Run:
                 if self.writes:
                     self.write("running")
                     self.checkpoints.save(k, self.fset, self.lam, self.records, self.sizes, self.history,
-                                          self.patch)
+                                          self.patch, pump=None if self.pump is None else self.pump.to_dict())
 
             on_root(save)   # a file rank 0 cannot write fails the step on every rank
 
@@ -474,11 +548,31 @@ def _own_critical(case, tips, grow, lam, held, homogeneous: bool):
     return lam if lam > held else None
 
 
-def _homogeneous(case, disc, fset) -> bool:
+def _homogeneous(case, disc, fset, network=None) -> bool:
     """Does the step's whole response scale with the load factor (no in-situ stress or other fixed load,
-    no reference slip, no cohesion)?"""
+    no reference slip, no cohesion)? network: with a pump, the injected network."""
     rows = disc.contact.rows
-    return scales_with_load(case, fset) and not np.any(disc.contact.reference) and not np.any(rows.cohesion)
+    return scales_with_load(case, fset, network) and not np.any(disc.contact.reference) and \
+        not np.any(rows.cohesion)
+
+
+def _keq(case, disc, fset, grow):
+    """keq(load): the largest K_eq of the tips `grow` after a solve at
+    `load`, by the SIFs that drive growth."""
+    polylines = fset.polylines()
+    trials = [0]
+
+    def keq(load):
+        trials[0] += 1
+        progress_now.doing(f"the critical-load search, trial {trials[0]} at load factor {load:.6g}")
+        disc.solution_at(load)   # a pump's balance may have solved at it
+        KI, KII = disc.driving_sifs(case, polylines)
+        th = K.mts_angle(KI[grow], KII[grow])
+        k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
+        step.require_finite("K_eq", k)
+        return k
+
+    return keq
 
 
 def _critical_load(case, disc, fset, grow, start, homogeneous: bool):
@@ -486,23 +580,18 @@ def _critical_load(case, disc, fset, grow, start, homogeneous: bool):
     first of the tips `grow` reaches KIc, by the SIFs that drive growth.
     With friction every trial starts from the bracket's lower end (accepted
     there), and the response scales with the load only from zero slip."""
-    polylines = fset.polylines()
+    return critical_load_factor(_keq(case, disc, fset, grow), case.material.KIc, start, homogeneous,
+                                case.propagation.max_load_factor, accept=disc.accept)
 
-    trials = [0]
 
-    def keq(load):
-        trials[0] += 1
-        progress_now.doing(f"the critical-load search, trial {trials[0]} at load factor {load:.6g}")
-        disc.solve(load)
-        KI, KII = disc.driving_sifs(case, polylines)
-        th = K.mts_angle(KI[grow], KII[grow])
-        k = float(np.max(K.equivalent_k(KI[grow], KII[grow], th)))
-        step.require_finite("K_eq", k)
-        return k
-
-    prop = case.propagation
-    return critical_load_factor(keq, case.material.KIc, start, homogeneous, prop.max_load_factor,
-                                accept=disc.accept)
+def _pressure_scale(case) -> float:
+    """A pressure scale of a pumped case (Pa): the largest of the in-situ
+    stress, the given pressures, the initial pressure and the net pressure
+    KIc / sqrt(pi tip_size) that opens a crack a rosette long: the critical
+    search's first step above the balance and the balance's without a slope."""
+    given = [f.pressure for f in case.fractures] + [case.injection.initial_pressure]
+    net = case.material.KIc / np.sqrt(np.pi * case.mesh.tip_size)
+    return float(max(np.abs(case.stress.tensor()).max(), max(given), net))
 
 
 def _release(disc):
