@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import statistics
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -79,7 +80,10 @@ def render_network(data: dict, source: str) -> str:
             out.append(f"| {c[name]} #{k + 1} | {r['wall']:.1f} | " + " | ".join(f"{ph.get(p, 0):.1f}" for p in NETWORK_PHASES)
                        + f" | {len(r['factorisations'])} | {len(r['updates'])} | {r['peak_gb']:.1f} | {r['load'][0]:.1f} |")
     med = data["median_wall"]
-    out += ["", f"Median wall {med['this']:.1f} s against {med['base']:.1f} s: ratio {data['ratio']:.2f}.", ""]
+    solve = {name: statistics.median(r["phases"]["solve"] for r in data["runs"][name]) for name in ("this", "base")}
+    out += ["", f"Median wall {med['this']:.1f} s against {med['base']:.1f} s: ratio {data['ratio']:.2f}; median "
+                f"solve phase {solve['this']:.1f} s against {solve['base']:.1f} s: ratio "
+                f"{solve['this'] / solve['base']:.2f}.", ""]
     return "\n".join(out)
 
 
