@@ -1,10 +1,11 @@
 """Writes the performance page's tables (docs/_generated/bench.md) from the
 newest results file of `make bench` (benchmarks/*.json; today
-benchmarks/baseline.json), and the 1,000-fracture network's table
-(docs/_generated/network.md) from benchmarks/grid_network.json (written by
-`benchmarks/grid_network.py --sif OUT --base CHECKOUT --record`), so that the
-page shows what the files hold and no figure is copied by hand. `make docs`
-runs it.
+benchmarks/baseline.json), what the pictures cost from
+benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), and the
+1,000-fracture network's table (docs/_generated/network.md) from
+benchmarks/grid_network.json (`benchmarks/grid_network.py --sif OUT --base
+CHECKOUT --record`), so that the page shows what the files hold and no
+figure is copied by hand. `make docs` runs it.
 
     python benchmarks/doc_tables.py [RESULTS.json] [-o OUT.md]
 """
@@ -23,8 +24,13 @@ NETWORK = ROOT / "benchmarks" / "grid_network.json"
 NETWORK_PHASES = ["mesh", "to_dolfinx", "assemble", "contact", "solve", "sif", "output"]
 
 
+#: what the pictures cost (its own section, whatever the newest results file)
+PICTURES = ROOT / "benchmarks" / "pictures_cost.json"
+
+
 def newest_results() -> Path:
-    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p != NETWORK), key=lambda p: p.stat().st_mtime)
+    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK)),
+                   key=lambda p: p.stat().st_mtime)
     if not files:
         raise SystemExit("benchmarks/doc_tables.py: no results file in benchmarks/")
     return files[-1]
@@ -87,6 +93,26 @@ def render_network(data: dict, source: str) -> str:
     return "\n".join(out)
 
 
+def render_pictures(data: dict, source: str) -> str:
+    """The pictures' cost: each pair, the medians, and where the time goes."""
+    out = ["## What the pictures cost", "", f"Read from `{source}`: {data['about']}; load average (1 min) "
+           f"{data['load'][0]} before and {data['load'][1]} after, on {data['cores']} cores.", "",
+           f"*How:* {data['how']}.", "",
+           "| pair | wall with pictures s | wall --no-plots s | wall ratio | CPU with s | CPU --no-plots s | CPU ratio |",
+           "|---|---|---|---|---|---|---|"]
+    for i, p in enumerate(data["pairs"], 1):
+        out.append(f"| {i} | {p['wall_with']} | {p['wall_without']} | {p['wall_with'] / p['wall_without']:.2f} | "
+                   f"{p['cpu_with']} | {p['cpu_without']} | {p['cpu_with'] / p['cpu_without']:.2f} |")
+    out += ["", f"Median wall ratio {data['wall_ratio']:.2f}x, CPU ratio {data['cpu_ratio']:.2f}x "
+            f"(the bound: {data['bound']}x).", "",
+            f"Where the pictures' time goes, CPU seconds ({data['phases']['steps']} steps; `during`: in the drawing "
+            "process while the run computes, `end`: after its last step):", "",
+            "| phase | CPU s |", "|---|---|"]
+    out += [f"| {name} | {s} |" for name, s in data["phases"]["seconds"].items()]
+    out += ["", "Counted: " + ", ".join(f"{k} {v}" for k, v in data["phases"]["counts"].items()) + ".", ""]
+    return "\n".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("results", nargs="?", type=Path)
@@ -95,7 +121,10 @@ def main(argv=None):
     path = a.results or newest_results()
     data = json.loads(path.read_text())
     a.out.parent.mkdir(parents=True, exist_ok=True)
-    a.out.write_text(render(data, path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path)))
+    text = render(data, path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path))
+    if PICTURES.exists():
+        text += "\n" + render_pictures(json.loads(PICTURES.read_text()), PICTURES.relative_to(ROOT).as_posix())
+    a.out.write_text(text)
     if NETWORK.exists():
         (a.out.parent / "network.md").write_text(render_network(json.loads(NETWORK.read_text()),
                                                                 NETWORK.relative_to(ROOT).as_posix()))

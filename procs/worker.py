@@ -141,6 +141,24 @@ class Call:
             raise RuntimeError(value)
         return value
 
+    def ready(self) -> bool:
+        """Whether result() would find the answer (or the worker's death)
+        coming already, without waiting for the worker to finish: true once
+        its first bytes are there (a small answer is written at once), and
+        for a call no longer outstanding (result() says so at once)."""
+        if self._channel._outstanding is not self:
+            return True
+        ready, _, _ = select.select([self._worker.proc.stdout.fileno()], [], [], 0)
+        return bool(ready)
+
+    def signal(self, signum: int) -> None:
+        """Send `signum` to the worker while the call is outstanding (a worker
+        that handles it: the drawing process is told to finish its call
+        soon); nothing once it is not."""
+        if self._channel._outstanding is self and self._worker.alive():
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(self._worker.proc.pid, signum)
+
     def cancel(self) -> None:
         """Abandon the call if it is still outstanding (the worker is killed)."""
         channel = self._channel

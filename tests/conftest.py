@@ -37,6 +37,7 @@ SLOW_FILES = {
     "tests/verification/test_injection_prebreakdown.py",
     "tests/verification/test_injection_quasi_static.py",
     "tests/command_line/test_injection_run.py",
+    "tests/command_line/test_pictures_as_steps_finish.py",
 }
 #: single slow tests, by file and name (every parameter of one)
 SLOW_TESTS = {

@@ -214,7 +214,10 @@ def _run(case, out, progress, plots, force, resume):
     def finishing(summary: dict) -> list:
         return _pictures(out, summary, plots, plots, pictures)
 
-    options = dict(resume=resume, finishing=finishing if draw else None)
+    # the animation's frames drawn in the drawing process as the steps are committed
+    frames = drawing.Frames(out, case.title, step.propagation_asked(case), bool(case.fractures)) if draw and plots \
+        else None
+    options = dict(resume=resume, finishing=finishing if draw else None, committed=frames)
     try:
         if progress is True or progress is False or progress is None:
             from .progress import ProgressBar

@@ -317,7 +317,7 @@ def describe(case) -> str:
 
 def _injection_text(case) -> list:
     """`check`'s lines on the pump: where, the schedule, the fluid."""
-    from wingcrack.propagation.schedule import Schedule
+    from wingcrack.schedule import Schedule
 
     inj = case.injection
     at = inj.point if inj.point is not None else case.fractures[inj.fracture].midpoint

@@ -9,6 +9,9 @@ class CaseError(ValueError):
         self.reason = reason
         super().__init__(f"{key}: {reason}")
 
+    def __reduce__(self):   # pickled as it was made
+        return type(self), (self.key, self.reason)
+
 
 class ComputationError(RuntimeError):
     """The computation failed; what was finished is kept on disk."""
@@ -38,6 +41,9 @@ class FolderError(ValueError):
         self.path = str(path)
         self.reason = reason
         super().__init__(f"{self.path}: {reason}")
+
+    def __reduce__(self):   # pickled as it was made (a picture drawn in another process raises it here)
+        return type(self), (self.path, self.reason)
 
 
 class Collapse(ComputationError):

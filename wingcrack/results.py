@@ -121,7 +121,7 @@ class StepRecord:
     #: load, or a path-dependent response held above it); below load_factor once the held load has peaked
     critical_load_factor: float | None = None
     #: with a pump (load = "injection"): the step's time (s), its injection {injected, stored, leaked,
-    #: pressure, volume, held, unstable, partly_filled, history} and its networks [{fractures, pressure,
+    #: pressure, volume, held, unstable, partly_filled, stopped, history} and its networks [{fractures, pressure,
     #: volume, length}] (propagation.injection.step_record); None otherwise
     time: float | None = None
     injection: dict | None = None
@@ -166,12 +166,16 @@ class Summary:
     fractures: list
     warnings: list = field(default_factory=list)
     KIc: float | None = None   # the material's toughness (Pa m^0.5): the line K_eq is held against
+    #: a run's: {"steps": asked, "length": the longest advance of a step (m)}, how far its tips can go
+    propagation: dict | None = None
 
     def to_dict(self) -> dict:
         out = {"title": self.title, "version": self.version, "status": self.status,
                "steps": [s.to_dict() for s in self.steps], "fractures": self.fractures}
         if self.KIc is not None:
             out["KIc"] = float(self.KIc)
+        if self.propagation is not None:
+            out["propagation"] = dict(self.propagation)
         if self.warnings:
             out["warnings"] = list(self.warnings)
         return out

@@ -36,6 +36,7 @@ from .io.pvd import increasing, write_pvd
 from .loads import case_loads, opening_functionals
 from .parallel import RootPending, on_root, world_rank
 from .results import MESH_STATS, ContactRecord, StepRecord, Summary, TipRecord
+from .schedule import Schedule
 from .version import __version__
 
 #: seconds gmsh may take for one mesh; then it is retried once, coarser, and
@@ -610,12 +611,26 @@ def failure(k: int, err: BaseException) -> str:
     return f"failed: step {k}: {' '.join(str(err).split()) or type(err).__name__}"
 
 
-def summary(case, status: str, steps: list, fractures: list, warnings=()) -> Summary:
+def summary(case, status: str, steps: list, fractures: list, warnings=(), run: bool = False) -> Summary:
     """The summary of a result: `steps` (StepRecord), `fractures` the pieces
     [{points, origin, fracture}] of the last finished geometry, warnings
-    about the whole result; one line more when the SIF methods disagreed."""
+    about the whole result; one line more when the SIF methods disagreed.
+    A run's (`run`) says how far it may grow (propagation_asked)."""
     return Summary(case.title, __version__, status, list(steps), fractures,
-                   result_warnings(steps, sif_method(case)) + list(warnings), KIc=case.material.KIc)
+                   result_warnings(steps, sif_method(case)) + list(warnings), KIc=case.material.KIc,
+                   propagation=propagation_asked(case) if run else None)
+
+
+def propagation_asked(case) -> dict:
+    """summary.json's "propagation" of a run of `case`: the steps asked and
+    the longest advance of a step (m), so no tip moves farther than their
+    product (the growth animation's view is chosen from it at the first step);
+    with a pump its schedule (times and rates, s and m^3/s per m; end_time),
+    which history.png's breakdown curve follows between the states solved."""
+    asked = {"steps": int(case.propagation.steps), "length": float(case.propagation.length)}
+    if case.propagation.load == "injection":
+        asked["schedule"] = Schedule.of(case.injection).to_dict()
+    return asked
 
 
 def result_warnings(steps: list, method: str = "correlation") -> list:

@@ -58,6 +58,42 @@ def test_a_shut_in_before_breakdown_stops_when_the_pump_stops():
     assert run.steps[-1]["injection"]["pressure"] == pytest.approx(Q * stop / C, rel=PLATE_TOL)
 
 
+def test_a_late_start_then_shut_in_keeps_the_history_to_the_runs_times(tmp_path):
+    """A closed Coulomb crack 2a = 0.2 m under 1 MPa normal stress, water,
+    no residual aperture; the pump starts at 10 s and stops at 20 s, before
+    breakdown. The search's trials above the pressure the pumped fluid
+    reaches are states the run never reaches (after the shut-in: at no
+    time): the history keeps only the run's states, in time order, so
+    summary.json holds finite times (it refused to be written: an
+    "unexpected" ValueError) and history.png marks the stop, not a
+    critical pressure."""
+    d = {"title": "closed pumped crack", "material": {"E": E, "nu": NU, "KIc": KIC, "plane": "strain"},
+         "domain": {"shape": "rectangle", "corner": [-1.0, -1.0], "size": [2.0, 2.0]},
+         "fractures": [{"points": [[-0.1, 0.0], [0.1, 0.0]], "faces": "coulomb", "friction": 0.6}],
+         "bc": [{"at": [-1.0, -1.0], "displacement": [0.0, 0.0]}, {"at": [1.0, -1.0], "displacement_y": 0.0}],
+         "stress": {"sxx": -2e6, "syy": -1e6, "sxy": 0.0},
+         "mesh": {"size": 0.1, "tip_size": 0.01},
+         "propagation": {"steps": 3, "length": 0.01, "load": "injection"},
+         "injection": {"fracture": 0, "times": [10.0, 20.0], "rates": [1e-7, 0.0]}}
+    run = wingcrack.run(Case.from_dict(d), out=tmp_path / "out", plots=False)
+    assert run.status.startswith("stopped: shut-in from 20 s: the network's fluid holds ")
+    last = run.steps[-1]["injection"]
+    assert last["stopped"] is True
+    # the fluid pumped, 1e-6 m^3/m, opens the crack under p - 1 MPa: exp(c p) C (p - 1 MPa) = 1e-6 with
+    # Sneddon's C = 2 pi a^2 / E'; within 3 % on the net pressure (a plate of 10 crack lengths: 1.4 % measured)
+    c, C_a = 4.5e-10, 2 * np.pi * 0.1 ** 2 / (E / (1 - NU ** 2))
+    from scipy.optimize import brentq
+    p = brentq(lambda p: np.exp(c * p) * C_a * (p - 1e6) - 1e-6, 1e6, 1e7)
+    assert last["pressure"] - 1e6 == pytest.approx(p - 1e6, rel=0.03)
+    t = np.array([h[0] for s in run.steps for h in s["injection"]["history"]])
+    assert np.all(np.isfinite(t)) and np.all(np.diff(t) >= 0) and t[-1] == 20.0
+    from wingcrack.io.history import pumped as series
+
+    curve_t, curve_p = series(run.summary)["curve"]
+    # the curve follows the schedule: at rest (p0 = 0) until the pump starts, then rising
+    assert 10.0 in curve_t and curve_p[list(curve_t).index(10.0)] == 0.0
+
+
 def test_the_pump_grows_the_crack_after_breakdown_and_the_schedule_pauses():
     """A schedule with a pause after breakdown: the step after it waits for
     the fluid, so its time is past the pause."""

@@ -407,9 +407,10 @@ def test_a_checkpoint_keeps_friction_and_cohesion(tmp_path):
 
 def test_the_face_law_keeps_the_format_4_fracture_keys(tmp_path):
     """The checkpoint writes a fracture's face law by its field names beside
-    the other keys: the keys of format 4, so a folder written before the
-    law was one record resumes as it did. A field added to the law changes
-    them, and must change checkpoint.VERSION with them."""
+    the other keys: the fracture keys of format 4 (format 5 added the pump's
+    state, not a fracture key), so a folder written before the law was one
+    record reads as it did. A field added to the law changes them, and must
+    change checkpoint.VERSION with them."""
     from wingcrack.propagation import checkpoint
     from wingcrack.propagation.fracture_set import FractureSet
 
@@ -417,7 +418,7 @@ def test_the_face_law_keeps_the_format_4_fracture_keys(tmp_path):
     checkpoint.save(tmp_path, case, 0, FractureSet.from_case(case), 0.5, [{"step": 0, "load_factor": 0.5}], None)
     with np.load(tmp_path / checkpoint.NAME) as data:
         meta = json.loads(str(data["meta"]))
-    assert checkpoint.VERSION == meta["version"] == 4
+    assert checkpoint.VERSION == meta["version"] == 5
     assert [sorted(f) for f in meta["fractures"]] == [sorted(["pre", "ends", "faces", "gap", "slip", "slip_profile",
                                                              "grow", "friction", "cohesion", "pressure",
                                                              "joined_to"])] * 2

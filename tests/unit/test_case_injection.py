@@ -1,5 +1,5 @@
 """The pump's keys ([injection], propagation.load = "injection") and its
-schedule (wingcrack/propagation/schedule.py): the keys read with their
+schedule (wingcrack/schedule.py): the keys read with their
 defaults, the refusals the bad-case corpus does not hold, and the injected
 volume Q(t) of piecewise constant rates with its exact inverse."""
 import math
@@ -9,7 +9,7 @@ import pytest
 
 from test_case import BASE, patched
 from wingcrack.case import Case, CaseError
-from wingcrack.propagation.schedule import Schedule
+from wingcrack.schedule import Schedule
 
 PUMPED = patched(("propagation", {"load": "injection"}), ("injection", {"fracture": 1, "rate": 1.0e-4}))
 

@@ -1,6 +1,7 @@
 """The performance page's tables (benchmarks/doc_tables.py) carry the figures of
 the results file they are read from: every case's wall, steps and phase total,
-and every target, with nothing typed by hand."""
+and every target; every pair and phase of what the pictures cost; with
+nothing typed by hand."""
 import json
 import sys
 from pathlib import Path
@@ -44,3 +45,19 @@ def test_the_network_table_carries_every_run_and_the_ratio(tmp_path):
     assert "| 180.5 |" in rows[0] and "| 70.2 |" in rows[0] and "| 2 | 1 | 9.5 | 2.2 |" in rows[0], rows[0]
     assert "| 243.2 |" in rows[1] and "| 129.4 |" in rows[1] and "| 3 | 0 |" in rows[1], rows[1]
     assert "ratio 0.74" in text and "solve phase 70.2 s against 129.4 s: ratio 0.54" in text
+
+
+def test_the_pictures_cost_carries_every_pair_and_phase():
+    data = json.loads((ROOT / "benchmarks" / "pictures_cost.json").read_text())
+    text = doc_tables.render_pictures(data, "benchmarks/pictures_cost.json")
+    rows = [line.split("|")[1:-1] for line in text.splitlines() if line.startswith("| ")]
+    pairs = {r[0].strip(): [c.strip() for c in r[1:]] for r in rows if r[0].strip().isdigit()}
+    assert len(pairs) == len(data["pairs"])
+    for i, p in enumerate(data["pairs"], 1):
+        # the columns in their order: a swapped pair of columns fails
+        assert pairs[str(i)] == [str(p["wall_with"]), str(p["wall_without"]), f"{p['wall_with'] / p['wall_without']:.2f}",
+                                 str(p["cpu_with"]), str(p["cpu_without"]), f"{p['cpu_with'] / p['cpu_without']:.2f}"]
+    phases = {r[0].strip(): r[1].strip() for r in rows if not r[0].strip().isdigit()}
+    for name, seconds in data["phases"]["seconds"].items():
+        assert phases[name] == str(seconds)
+    assert f"Median wall ratio {data['wall_ratio']:.2f}x, CPU ratio {data['cpu_ratio']:.2f}x" in text

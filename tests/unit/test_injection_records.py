@@ -13,6 +13,7 @@ from wingcrack.io.history import plot_history, pumped
 from wingcrack.io.pvd import increasing, read_pvd, write_pvd
 from wingcrack.progress import progress_text
 from wingcrack.results import ContactRecord, StepRecord, tip_rows
+from wingcrack.schedule import Schedule
 
 
 def tip(fracture, end, x):
@@ -87,6 +88,21 @@ def test_the_breakdown_curve_is_every_kept_state_in_time_order(tmp_path):
     assert drawn["fracture length"][1].max() == pytest.approx(3.4)
 
 
+def test_between_two_states_the_curve_follows_the_pumped_fluid_through_a_pause():
+    """States (0 s, 0 Pa) and (30 s, 3 MPa) on one geometry, the pump at
+    1 (0-10 s), shut in (10-20 s), at 1 again: Q = 0, 10, 10, 20 at 0, 10,
+    20, 30 s, so the pressure, interpolated in the fluid pumped, is 1.5 MPa
+    at 10 s and stays there until 20 s (not the straight line in time,
+    1 and 2 MPa). Without the schedule (an older summary) the states alone."""
+    schedule = Schedule(np.array([0.0, 10.0, 20.0]), np.array([1.0, 0.0, 1.0]), 100.0)
+    assert Schedule.from_dict(json.loads(json.dumps(schedule.to_dict()))).to_dict() == schedule.to_dict()
+    s = step(0, 30.0, 3e6, [[0.0, 0.0, 0.0], [30.0, 3e6, 2e-4]])
+    t, p = pumped({"steps": [s], "propagation": {"steps": 1, "length": 0.1, "schedule": schedule.to_dict()}})["curve"]
+    assert list(t) == [0.0, 10.0, 20.0, 30.0] and list(p) == [0.0, 1.5e6, 1.5e6, 3e6]
+    t, p = pumped({"steps": [s]})["curve"]
+    assert list(t) == [0.0, 30.0] and list(p) == [0.0, 3e6]
+
+
 def test_the_checkpoint_keeps_the_pumps_state_and_refuses_a_damaged_one(tmp_path):
     """The pump's state goes through checkpoint.npz as written; a state that
     is not one of the case (a network without the injected fracture, a NaN
@@ -102,7 +118,13 @@ def test_the_checkpoint_keeps_the_pumps_state_and_refuses_a_damaged_one(tmp_path
     state = {"network": [1], "held": 1e-4, "time": 10.0, "pressure": 5e6, "closing": 4e6}
     checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=state)
     assert checkpoint.load(tmp_path, case)["pump"] == state
-    for bad in ({**state, "network": [0]}, {**state, "time": float("nan")}, {**state, "closing": "x"}, None):
+    # "open" faces under compression overlap at p0: the fluid held is below 0, and a run that went on with it
+    # resumes (it was refused as damaged)
+    overlap = {**state, "held": -6e-6}
+    checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=overlap)
+    assert checkpoint.load(tmp_path, case)["pump"] == overlap
+    for bad in ({**state, "network": [0]}, {**state, "time": float("nan")}, {**state, "closing": "x"},
+                {**state, "held": float("inf")}, {**state, "held": None}, None):
         checkpoint.save(tmp_path, case, 0, fset, 5e6, steps, None, pump=bad)
         with pytest.raises(ValueError, match="damaged"):
             checkpoint.load(tmp_path, case)

@@ -15,6 +15,7 @@ import numpy as np
 
 from . import fonts
 from .atomic import replacing
+from ..schedule import Schedule
 
 
 def history(summary: dict) -> dict:
@@ -205,28 +206,54 @@ def pumped(summary: dict) -> dict:
     curve (t (n,), p (n,)): every state its steps solved in time order (each
     step's balance, the search's states below the critical pressure, the
     critical point; the drop after growth is the next step's balance at the
-    same time), Pa; critical (t, p) of each step's record and unstable (s,)
-    bool; length (t (2s,), m (2s,)): the fractures' total length over each
+    same time), Pa; critical (t, p) of each step's record, unstable (s,)
+    bool and stopped (s,) bool (the state the run stopped in: no critical
+    point); length (t (2s,), m (2s,)): the fractures' total length over each
     step's interval, from its start to its time."""
     steps = [st for st in summary["steps"] if "time" in st]
     points = [pt for st in steps for pt in st["injection"]["history"]]
     t = np.array([pt[0] for pt in points], float)
     p = np.array([pt[1] for pt in points], float)
+    schedule = summary.get("propagation", {}).get("schedule")
+    if schedule is not None:
+        t, p = _through_the_schedule(t, p, Schedule.from_dict(schedule))
     lengths = [sum(n["length"] for n in st["networks"]) for st in steps]
     starts = [st["injection"]["history"][0][0] for st in steps]
     ends = [st["time"] for st in steps]
     return {"curve": (t, p),
             "critical": (np.array(ends, float), np.array([st["injection"]["pressure"] for st in steps], float)),
             "unstable": np.array([bool(st["injection"].get("unstable")) for st in steps]),
+            "stopped": np.array([bool(st["injection"].get("stopped")) for st in steps]),
             "length": (np.array([x for a, b in zip(starts, ends) for x in (a, b)], float),
                        np.array([x for m in lengths for x in (m, m)], float))}
+
+
+def _through_the_schedule(t: np.ndarray, p: np.ndarray, schedule: Schedule):
+    """The curve (t, p) with a point more at each time the pump's rate
+    changes between two of its states (a shut-in holds the pressure, a start
+    raises it from there): between two states solved on one geometry the
+    pressure follows the fluid pumped, Q(t), so it is interpolated in Q,
+    exact at the states and at rest while nothing is pumped. States at one
+    time (the drop after growth) are kept as they are."""
+    out_t, out_p = [t[:1]], [p[:1]]
+    for i in range(1, len(t)):
+        t1, t2 = t[i - 1], t[i]
+        knots = schedule.times[(schedule.times > t1) & (schedule.times < t2)]
+        q1, q2 = schedule.injected(t1), schedule.injected(t2)
+        if len(knots) and q2 > q1:
+            q = np.array([schedule.injected(k) for k in knots])
+            out_t.append(knots)
+            out_p.append(p[i - 1] + (p[i] - p[i - 1]) * (q - q1) / (q2 - q1))
+        out_t.append(t[i:i + 1])
+        out_p.append(p[i:i + 1])
+    return np.concatenate(out_t), np.concatenate(out_p)
 
 
 def _plot_pumped(path: Path, summary: dict, h: dict, plt) -> dict:
     """history.png of a pumped run: the breakdown curve and the fractures'
     length against time, K_eq and the DOFs by step (labels "injection
     pressure", "critical pressure of the step", "unstable growth (no time
-    passes)", "fracture length", "fracture F end E", "KIc", "DOFs")."""
+    passes)", "where the run stopped (no tip at KIc)", "fracture length", "fracture F end E", "KIc", "DOFs")."""
     pm = pumped(summary)
     fig, axes = plt.subplots(4, 1, figsize=(8.5, 10.5), layout="constrained",
                              gridspec_kw={"height_ratios": [1.4, 1.0, 1.1, 0.7]})
@@ -235,12 +262,17 @@ def _plot_pumped(path: Path, summary: dict, h: dict, plt) -> dict:
     t, p = pm["curve"]
     ax_p.plot(t, p / 1e6, lw=1.2, color="#0072B2", label="injection pressure")
     tc, pc = pm["critical"]
-    stable = ~pm["unstable"]
-    ax_p.plot(tc[stable], pc[stable] / 1e6, ls="none", marker="o", ms=3.5, color="black",
-              label="critical pressure of the step")
-    if pm["unstable"].any():
-        ax_p.plot(tc[~stable], pc[~stable] / 1e6, ls="none", marker="x", ms=5, color="#D55E00",
+    unstable, stopped = pm["unstable"], pm["stopped"]
+    stable = ~unstable & ~stopped   # the state a run stopped in is no critical one
+    if stable.any():
+        ax_p.plot(tc[stable], pc[stable] / 1e6, ls="none", marker="o", ms=3.5, color="black",
+                  label="critical pressure of the step")
+    if unstable.any():
+        ax_p.plot(tc[unstable], pc[unstable] / 1e6, ls="none", marker="x", ms=5, color="#D55E00",
                   label="unstable growth (no time passes)")
+    if stopped.any():
+        ax_p.plot(tc[stopped], pc[stopped] / 1e6, ls="none", marker="s", ms=4, mfc="none", color="black",
+                  label="where the run stopped (no tip at KIc)")
     ax_p.set_ylabel("injection pressure (MPa)")
     ax_p.set_ylim(bottom=0.0)
     ax_p.legend(fontsize=7, loc="best")

@@ -236,9 +236,11 @@ def _consistent(state) -> None:
 
 def _pump(d, case, n: int):
     """The pump's state (Pump.to_dict) of a pumped case's checkpoint,
-    checked: the network a list of fractures holding the injected one, held,
-    time and pressure finite and >= 0, closing a number or None; None for
-    a case without a pump."""
+    checked: the network a list of fractures holding the injected one, time
+    and pressure finite and >= 0, held finite (below 0 where "open" faces,
+    which no contact keeps apart, overlap at the initial pressure: the
+    balance counts that volume as the run did), closing a number or None;
+    None for a case without a pump."""
     if case.injection is None:
         return None
     if not isinstance(d, dict):
@@ -247,10 +249,13 @@ def _pump(d, case, n: int):
     if not isinstance(net, list) or case.injection.fracture not in net or \
             not all(isinstance(i, int) and not isinstance(i, bool) and 0 <= i < n for i in net):
         raise ValueError(f"the pump's network {net!r} is not one of these fractures")
-    for key in ("held", "time", "pressure"):
+    for key in ("time", "pressure"):
         _coefficient(d, key)
-    if d.get("closing") is not None and not (isinstance(d["closing"], (int, float)) and math.isfinite(d["closing"])):
-        raise ValueError(f"the pump's closing pressure {d['closing']!r} is not a number")
+    for key, what in (("held", "fluid held"), ("closing", "closing pressure")):
+        v = d.get(key)
+        if (v is not None or key == "held") and not (isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                     and math.isfinite(v)):
+            raise ValueError(f"the pump's {what} {v!r} is not a number")
     return d
 
 

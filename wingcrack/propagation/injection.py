@@ -43,7 +43,7 @@ import numpy as np
 from ..case.bounds import MAX_STRAIN
 from . import fluid
 from .critical_load import critical_load_factor
-from .schedule import Schedule
+from ..schedule import Schedule
 
 #: the deciding tip's K_eq at the critical pressure: within KIc (1 +- KEQ_TOL) (the search stops
 #: there; K_eq is computed to ~1e-13; the issue asks 1e-6, growth takes a tip within 1e-3 of KIc)
@@ -261,8 +261,11 @@ def critical(pump: Pump, disc, fractures, keq, KIc: float, E: float, homogeneous
     def accept():
         disc.accept()
         p, v = last["p"], last["v"]
-        if p > out.history[-1][1]:
-            out.history.append((pump.time_of(v, p), p, v))
+        t = pump.time_of(v, p)
+        # a state the pump never reaches before the run ends (past end_time, or after shut-in: inf) is
+        # none of the run's: the search stops on it (beyond), and the history keeps to the run's times
+        if p > out.history[-1][1] and t <= pump.schedule.end and math.isfinite(t):
+            out.history.append((t, p, v))
 
     def beyond(p):
         return pump.past_the_pump(last["v"], p)
@@ -327,5 +330,7 @@ def step_record(pump: Pump, step: PumpedStep, volumes: np.ndarray, groups: list,
             "injection": {"injected": float(injected), "stored": float(stored), "leaked": 0.0, "pressure": float(p),
                           "volume": float(v), "held": float(pump.held), "unstable": bool(step.unstable),
                           "partly_filled": bool(step.start.partly_filled),
+                          # the state where the pump or the pressure limit ended the run: no tip at KIc
+                          "stopped": step.stop is not None,
                           "history": [[float(t), float(q), float(w)] for t, q, w in step.history]},
             "networks": nets}

@@ -110,7 +110,7 @@ class RunResult(LastSolve):
 
 
 def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TIMEOUT,
-        resume: bool = False, finishing=None) -> RunResult:
+        resume: bool = False, finishing=None, committed=None) -> RunResult:
     """Grow the case's fractures; see the module doc. `progress(step, info)`
     is called after every step (the CLI's progress bar). With `resume`, go
     on from the checkpoint in `out` (see checkpoint.py). `finishing(summary)`
@@ -119,10 +119,13 @@ def run(case, out=None, progress=None, mesh_timeout: float | None = step.MESH_TI
     add to it: api.run draws the pictures there, so that a finished result
     has them. Ctrl-C (SIGINT) stops at once with status "stopped:
     interrupted", every finished step kept, and raises KeyboardInterrupt
-    again; SIGTERM the same with "stopped: terminated"."""
+    again; SIGTERM the same with "stopped: terminated". `committed(k,
+    record)` is called with every step committed to the folder and its
+    record (a dict as in summary.json), resumed ones first: api.run has the
+    animation's frames drawn there as the run goes."""
     step.start_meshing(mesh_timeout)   # the worker's start-up overlaps the imports of preload()
     with interrupt.watching(), _NextMesh() as next_mesh, contextlib.ExitStack() as frozen:
-        return _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen)
+        return _run(case, out, progress, mesh_timeout, resume, finishing, committed, next_mesh, frozen)
 
 
 class _NextMesh:
@@ -162,13 +165,15 @@ def _collector_skips_modules():
         gc.unfreeze()
 
 
-def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen) -> RunResult:
+def _run(case, out, progress, mesh_timeout, resume, finishing, committed, next_mesh, frozen) -> RunResult:
     """Fig. 8, step after step, with the ends of a run: a stop (the status a
     step returns), a collapse of the body (the end of its loading path), a
     failure (every finished step kept), an interrupt (kept and resumable)."""
     run = _Run(case, out, mesh_timeout, next_mesh)
     if resume:
         run.resume()
+        for record in run.records:
+            run.tell(committed, record)
     run.begin(frozen)
     steps = case.propagation.steps
     status = NO_STEPS if not run.records and run.k >= steps else "finished"
@@ -187,6 +192,7 @@ def _run(case, out, progress, mesh_timeout, resume, finishing, next_mesh, frozen
         if stop is not None:
             status = stop
             break
+        run.tell(committed, run.last)
         run.report(progress, k)
     run.finish(status, finishing)
     return run.result(status)
@@ -440,6 +446,15 @@ class _Run:
         if self.records and self.records[-1].step == k:
             self.records.pop()
 
+    def tell(self, committed, record):
+        """committed(k, the record as a dict) of a step committed (see run)."""
+        if committed is None:
+            return
+        try:
+            committed(record.step, record.to_dict())
+        except KeyboardInterrupt as err:
+            raise self.stopped(err)
+
     def report(self, progress, k):
         """The caller's code, after step k is committed: its own exception goes
         up unchanged (not a failure of the computation, and step k stays in
@@ -452,11 +467,12 @@ class _Run:
             raise self.stopped(err)
 
     def summary_now(self, st) -> dict:
-        return step.summary(self.case, st, self.records, self.done.summary(), self.warnings).to_dict()
+        return step.summary(self.case, st, self.records, self.done.summary(), self.warnings, run=True).to_dict()
 
     def write(self, st):
         if self.writes:
-            self.summary_file.write(step.summary(self.case, st, self.records, self.done.summary(), self.warnings))
+            self.summary_file.write(step.summary(self.case, st, self.records, self.done.summary(), self.warnings,
+                                                 run=True))
 
     def write_last(self, st) -> str:
         """Write the run's last status `st`: "", or what the news of the run's

@@ -37,6 +37,17 @@ class Schedule:
         end = math.inf if injection.end_time is None else float(injection.end_time)
         return cls(np.asarray(times, float), np.asarray(rates, float), end)
 
+    @classmethod
+    def from_dict(cls, d: dict) -> "Schedule":
+        """The schedule of to_dict (summary.json's propagation.schedule)."""
+        end = d.get("end_time")
+        return cls(np.asarray(d["times"], float), np.asarray(d["rates"], float), math.inf if end is None else float(end))
+
+    def to_dict(self) -> dict:
+        """times and rates (s, m^3/s per m) and end_time (s, None: none), as summary.json keeps them."""
+        return {"times": self.times.tolist(), "rates": self.rates.tolist(),
+                "end_time": None if math.isinf(self.end) else float(self.end)}
+
     @property
     def _volumes(self) -> np.ndarray:
         """(n,) Q at the start of each interval."""
