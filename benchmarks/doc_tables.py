@@ -4,8 +4,10 @@ benchmarks/baseline.json), what the pictures cost from
 benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), and the
 1,000-fracture network's table (docs/_generated/network.md) from
 benchmarks/grid_network.json (`benchmarks/grid_network.py --sif OUT --base
-CHECKOUT --record`), so that the page shows what the files hold and no
-figure is copied by hand. `make docs` runs it.
+CHECKOUT --record`), and what a time step of the flow along the fractures
+costs from benchmarks/flow_cost.json (benchmarks/flow_cost.py --json), so
+that the page shows what the files hold and no figure is copied by hand.
+`make docs` runs it.
 
     python benchmarks/doc_tables.py [RESULTS.json] [-o OUT.md]
 """
@@ -26,10 +28,12 @@ NETWORK_PHASES = ["mesh", "to_dolfinx", "assemble", "contact", "solve", "sif", "
 
 #: what the pictures cost (its own section, whatever the newest results file)
 PICTURES = ROOT / "benchmarks" / "pictures_cost.json"
+#: what a time step of the flow costs (its own section too)
+FLOW = ROOT / "benchmarks" / "flow_cost.json"
 
 
 def newest_results() -> Path:
-    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK)),
+    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK, FLOW)),
                    key=lambda p: p.stat().st_mtime)
     if not files:
         raise SystemExit("benchmarks/doc_tables.py: no results file in benchmarks/")
@@ -113,6 +117,18 @@ def render_pictures(data: dict, source: str) -> str:
     return "\n".join(out)
 
 
+def render_flow(data: dict, source: str) -> str:
+    """A time step of the flow against the elastic solve of its mesh: each
+    case's row (benchmarks/flow_cost.py's own table) and the largest ratio."""
+    import flow_cost
+    worst = max(c["ratio"] for c in data["cases"])
+    out = ["## A time step of the flow along the fractures", "", f"Read from `{source}`: {data['about']}; load "
+           f"average (1 min) {data['load'][0]} before and {data['load'][1]} after, on {data['cores']} cores.", "",
+           f"*How:* {data['how']}.", ""] + flow_cost.HEADER + [flow_cost.row(c) for c in data["cases"]]
+    out += ["", f"The largest time step / elastic solve: {worst:.3f} (the bound: {data['bound']:g}).", ""]
+    return "\n".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("results", nargs="?", type=Path)
@@ -124,6 +140,8 @@ def main(argv=None):
     text = render(data, path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path))
     if PICTURES.exists():
         text += "\n" + render_pictures(json.loads(PICTURES.read_text()), PICTURES.relative_to(ROOT).as_posix())
+    if FLOW.exists():
+        text += "\n" + render_flow(json.loads(FLOW.read_text()), FLOW.relative_to(ROOT).as_posix())
     a.out.write_text(text)
     if NETWORK.exists():
         (a.out.parent / "network.md").write_text(render_network(json.loads(NETWORK.read_text()),

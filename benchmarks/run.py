@@ -15,6 +15,8 @@ Prints, each section marked:
   same pair system, and its worst step against its median (friction_solve.py);
 - what the pictures cost: the disc run with pictures over --no-plots, paired
   (pictures_cost.py);
+- what a time step of the flow along the fractures costs against an elastic
+  solve of the same mesh (flow_cost.py);
 - issue 16's targets 1-3 (targets.py; 3, the 1.10M DOF step, with --large);
 - with --large, the 1,000-fracture network through `sif` (grid_network.py:
   3.75M DOFs, the contact by the saddle route; its phases and each
@@ -178,6 +180,7 @@ def main(argv=None):
     import targets
     from friction_cases import main as friction_table
     from friction_solve import coulomb_cases, main as friction_solve
+    from flow_cost import main as flow_cost
     from injection_cost import main as injection_cost
     from mesh_disc import main as bench_mesh
     from pictures_cost import main as pictures_cost
@@ -214,6 +217,8 @@ def main(argv=None):
             friction_solve(["--cases"] + chosen)
         section("what the pictures cost: the 45-degree disc, 34 steps, with pictures / --no-plots, paired")
         pictures_cost(["--repeat", str(args.repeat)])
+        section("a time step of the flow along the fractures against an elastic solve of the same mesh")
+        flow_cost([])
         section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
         print(baseline.get("about", "?"))
         tdir = out / "targets"

@@ -1,10 +1,12 @@
 """The performance page's tables (benchmarks/doc_tables.py) carry the figures of
 the results file they are read from: every case's wall, steps and phase total,
-and every target; every pair and phase of what the pictures cost; with
-nothing typed by hand."""
+and every target; every pair and phase of what the pictures cost; every
+case of what a time step of the flow costs; with nothing typed by hand."""
 import json
 import sys
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "benchmarks"))
@@ -61,3 +63,18 @@ def test_the_pictures_cost_carries_every_pair_and_phase():
     for name, seconds in data["phases"]["seconds"].items():
         assert phases[name] == str(seconds)
     assert f"Median wall ratio {data['wall_ratio']:.2f}x, CPU ratio {data['cpu_ratio']:.2f}x" in text
+
+
+def test_the_flow_cost_carries_every_case_and_the_largest_ratio():
+    data = json.loads((ROOT / "benchmarks" / "flow_cost.json").read_text())
+    text = doc_tables.render_flow(data, "benchmarks/flow_cost.json")
+    rows = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
+            for line in text.splitlines() if line.startswith("| ")}
+    for c in data["cases"]:
+        # the columns in their order: a swapped pair of columns fails
+        assert rows[c["name"]] == [str(c["dofs"]), str(c["pairs"]), str(c["elastic"]), str(c["setup"]),
+                                   f"{c['step']} ({c['steps']})", str(c["faces"]), str(c["solves"]),
+                                   f"{c['ratio']:.3f}", f"{c['first_ratio']:.3f}"], rows[c["name"]]
+        # the ratio is the time step's over the elastic solve's (to the 4 digits kept)
+        assert c["ratio"] == pytest.approx(c["step"] / c["elastic"], abs=2e-4)
+    assert f"time step / elastic solve: {max(c['ratio'] for c in data['cases']):.3f}" in text
