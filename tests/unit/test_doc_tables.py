@@ -30,6 +30,23 @@ def test_tables_carry_every_figure_of_the_results_file(tmp_path):
         assert name in rows
 
 
+def test_the_network_table_carries_every_run_and_the_ratio(tmp_path):
+    """benchmarks/grid_network.json's paired runs (made up here): each run's wall and solve phase, its
+    factorisations and updates counted, the medians and their ratio."""
+    run = {"wall": 180.5, "phases": {"mesh": 55.1, "solve": 70.2, "total": 170.0}, "factorisations": [30.1, 18.2],
+           "updates": [[5.0, 37]], "peak_gb": 9.5, "load": [2.25, 3.0]}
+    base = dict(run, wall=243.25, phases={"mesh": 56.0, "solve": 129.4}, factorisations=[33.0, 18.5, 18.4],
+                updates=[])
+    data = {"runs": {"this": [run], "base": [base]}, "median_wall": {"this": 180.5, "base": 243.25},
+            "ratio": 0.742, "commits": {"this": "aaaaaaa", "base": "bbbbbbb"}}
+    text = doc_tables.render_network(data, "x.json")
+    rows = [line for line in text.splitlines() if line.startswith("| aaaaaaa") or line.startswith("| bbbbbbb")]
+    assert len(rows) == 2
+    assert "| 180.5 |" in rows[0] and "| 70.2 |" in rows[0] and "| 2 | 1 | 9.5 | 2.2 |" in rows[0], rows[0]
+    assert "| 243.2 |" in rows[1] and "| 129.4 |" in rows[1] and "| 3 | 0 |" in rows[1], rows[1]
+    assert "ratio 0.74" in text and "solve phase 70.2 s against 129.4 s: ratio 0.54" in text
+
+
 def test_the_pictures_cost_carries_every_pair_and_phase():
     data = json.loads((ROOT / "benchmarks" / "pictures_cost.json").read_text())
     text = doc_tables.render_pictures(data, "benchmarks/pictures_cost.json")
