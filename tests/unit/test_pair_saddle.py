@@ -192,7 +192,7 @@ def test_the_trial_start_ends_where_the_sticking_start_does_on_a_network(monkeyp
     from wingcrack.contact.friction import SLIP, STICK
 
     case = Case.from_dict(grid_network.coulomb(grid_network.case(30)))
-    monkeypatch.setattr(step, "DENSE_ROWS", 0)
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
     trial = step.solve_initial(case).contact.result
     iterate = friction_sets.iterate_states
     monkeypatch.setattr(by_sets, "iterate_states", lambda *a, **k: iterate(*a, **{**k, "trial": False}))
