@@ -1,9 +1,13 @@
 """Writes the performance page's tables (docs/_generated/bench.md) from the
 newest results file of `make bench` (benchmarks/*.json; today
-benchmarks/baseline.json), and what the pictures cost from
-benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), so that
-the page shows what the files hold and no figure is copied by hand. `make
-docs` runs it.
+benchmarks/baseline.json), what the pictures cost from
+benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), and the
+1,000-fracture network's table (docs/_generated/network.md) from
+benchmarks/grid_network.json (`benchmarks/grid_network.py --sif OUT --base
+CHECKOUT --record`), and what a time step of the flow along the fractures
+costs from benchmarks/flow_cost.json (benchmarks/flow_cost.py --json), so
+that the page shows what the files hold and no figure is copied by hand.
+`make docs` runs it.
 
     python benchmarks/doc_tables.py [RESULTS.json] [-o OUT.md]
 """
@@ -11,19 +15,26 @@ from __future__ import annotations
 
 import argparse
 import json
+import statistics
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PHASES = ["mesh", "to_dolfinx", "assemble", "factorize", "contact", "solve", "sif",
           "growth", "estimate", "output"]
+#: the network's paired runs (not a `make bench` results file)
+NETWORK = ROOT / "benchmarks" / "grid_network.json"
+NETWORK_PHASES = ["mesh", "to_dolfinx", "assemble", "contact", "solve", "sif", "output"]
 
 
 #: what the pictures cost (its own section, whatever the newest results file)
 PICTURES = ROOT / "benchmarks" / "pictures_cost.json"
+#: what a time step of the flow costs (its own section too)
+FLOW = ROOT / "benchmarks" / "flow_cost.json"
 
 
 def newest_results() -> Path:
-    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p != PICTURES), key=lambda p: p.stat().st_mtime)
+    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK, FLOW)),
+                   key=lambda p: p.stat().st_mtime)
     if not files:
         raise SystemExit("benchmarks/doc_tables.py: no results file in benchmarks/")
     return files[-1]
@@ -64,6 +75,28 @@ def render(data: dict, source: str) -> str:
     return "\n".join(out)
 
 
+def render_network(data: dict, source: str) -> str:
+    """The network's paired runs: one row a run, its phases, the saddle-point
+    sets factorised and updated, the peak memory and the load average at its
+    start; then the medians and their ratio."""
+    c = data["commits"]
+    out = [f"Read from `{source}`: `benchmarks/grid_network.py --sif` (1,000 Coulomb fractures, one process), "
+           f"{c['this']} against {c['base']}, each run its own process, alternately.", "",
+           "| run | wall s | " + " | ".join(NETWORK_PHASES) + " | factorised | updated | peak GB | load |",
+           "|---|---|" + "---|" * (len(NETWORK_PHASES) + 4)]
+    for name in ("this", "base"):
+        for k, r in enumerate(data["runs"][name]):
+            ph = r["phases"]
+            out.append(f"| {c[name]} #{k + 1} | {r['wall']:.1f} | " + " | ".join(f"{ph.get(p, 0):.1f}" for p in NETWORK_PHASES)
+                       + f" | {len(r['factorisations'])} | {len(r['updates'])} | {r['peak_gb']:.1f} | {r['load'][0]:.1f} |")
+    med = data["median_wall"]
+    solve = {name: statistics.median(r["phases"]["solve"] for r in data["runs"][name]) for name in ("this", "base")}
+    out += ["", f"Median wall {med['this']:.1f} s against {med['base']:.1f} s: ratio {data['ratio']:.2f}; median "
+                f"solve phase {solve['this']:.1f} s against {solve['base']:.1f} s: ratio "
+                f"{solve['this'] / solve['base']:.2f}.", ""]
+    return "\n".join(out)
+
+
 def render_pictures(data: dict, source: str) -> str:
     """The pictures' cost: each pair, the medians, and where the time goes."""
     out = ["## What the pictures cost", "", f"Read from `{source}`: {data['about']}; load average (1 min) "
@@ -84,6 +117,18 @@ def render_pictures(data: dict, source: str) -> str:
     return "\n".join(out)
 
 
+def render_flow(data: dict, source: str) -> str:
+    """A time step of the flow against the elastic solve of its mesh: each
+    case's row (benchmarks/flow_cost.py's own table) and the largest ratio."""
+    import flow_cost
+    worst = max(c["ratio"] for c in data["cases"])
+    out = ["## A time step of the flow along the fractures", "", f"Read from `{source}`: {data['about']}; load "
+           f"average (1 min) {data['load'][0]} before and {data['load'][1]} after, on {data['cores']} cores.", "",
+           f"*How:* {data['how']}.", ""] + flow_cost.HEADER + [flow_cost.row(c) for c in data["cases"]]
+    out += ["", f"The largest time step / elastic solve: {worst:.3f} (the bound: {data['bound']:g}).", ""]
+    return "\n".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("results", nargs="?", type=Path)
@@ -95,7 +140,12 @@ def main(argv=None):
     text = render(data, path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path))
     if PICTURES.exists():
         text += "\n" + render_pictures(json.loads(PICTURES.read_text()), PICTURES.relative_to(ROOT).as_posix())
+    if FLOW.exists():
+        text += "\n" + render_flow(json.loads(FLOW.read_text()), FLOW.relative_to(ROOT).as_posix())
     a.out.write_text(text)
+    if NETWORK.exists():
+        (a.out.parent / "network.md").write_text(render_network(json.loads(NETWORK.read_text()),
+                                                                NETWORK.relative_to(ROOT).as_posix()))
 
 
 if __name__ == "__main__":

@@ -19,7 +19,6 @@ animation from the frames kept, history.png; fractures.png, drawn with
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import statistics
 import sys
@@ -28,6 +27,7 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
+import results_file
 from case_variant import write_variant
 from propagation import ROOT, run_case
 
@@ -91,7 +91,7 @@ def main(argv=None) -> list:
     ap.add_argument("--json", type=Path, help="also write the figures here (benchmarks/pictures_cost.json)")
     args = ap.parse_args(argv)
     pairs = []
-    load = [round(os.getloadavg()[0], 2)]
+    load = [results_file.load()]
     with tempfile.TemporaryDirectory() as tmp:
         case = write_variant(DISC, STEPS, Path(tmp) / "disc_34_pictures.toml")
         for i in range(args.repeat):
@@ -106,7 +106,7 @@ def main(argv=None) -> list:
             print(f"  pair {i + 1}: wall with pictures {p['wall_with']:.1f} s, without {p['wall_without']:.1f} s: "
                   f"{p['wall_with'] / p['wall_without']:.2f}x; CPU {p['cpu_with']:.1f} s / {p['cpu_without']:.1f} s: "
                   f"{p['cpu_with'] / p['cpu_without']:.2f}x", flush=True)
-        load.append(round(os.getloadavg()[0], 2))
+        load.append(results_file.load())
         spent = phases(Path(tmp) / f"with_{args.repeat - 1}")
     wall = [p["wall_with"] / p["wall_without"] for p in pairs]
     cpu = [p["cpu_with"] / p["cpu_without"] for p in pairs]
@@ -120,14 +120,12 @@ def main(argv=None) -> list:
         print(f"    {name:66s} {s:7.3f}")
     print("    counted: " + ", ".join(f"{k} {v}" for k, v in spent["counts"].items()))
     if args.json:
-        args.json.write_text(json.dumps({
-            "about": f"the 45-degree disc at 34 steps, `wingcrack run` with its pictures and with --no-plots, "
-                     f"alternating, {len(pairs)} pairs, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}",
-            "how": "benchmarks/pictures_cost.py: wall and CPU seconds of each run's process (os.wait4, its "
-                   "workers included); phases: CPU seconds of the drawing process's code replayed on the last "
-                   "run's folder",
-            "load": load, "cores": os.cpu_count(), "pairs": pairs, "wall_ratio": round(med, 3),
-            "cpu_ratio": round(med_cpu, 3), "bound": BOUND, "phases": spent}, indent=1) + "\n")
+        results_file.write(
+            args.json, f"the 45-degree disc at 34 steps, `wingcrack run` with its pictures and with --no-plots, "
+                       f"alternating, {len(pairs)} pairs",
+            "benchmarks/pictures_cost.py: wall and CPU seconds of each run's process (os.wait4, its workers "
+            "included); phases: CPU seconds of the drawing process's code replayed on the last run's folder",
+            load, pairs=pairs, wall_ratio=round(med, 3), cpu_ratio=round(med_cpu, 3), bound=BOUND, phases=spent)
     return wall
 
 

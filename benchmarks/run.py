@@ -15,7 +15,12 @@ Prints, each section marked:
   same pair system, and its worst step against its median (friction_solve.py);
 - what the pictures cost: the disc run with pictures over --no-plots, paired
   (pictures_cost.py);
+- what a time step of the flow along the fractures costs against an elastic
+  solve of the same mesh (flow_cost.py);
 - issue 16's targets 1-3 (targets.py; 3, the 1.10M DOF step, with --large);
+- with --large, the 1,000-fracture network through `sif` (grid_network.py:
+  3.75M DOFs, the contact by the saddle route; its phases and each
+  factorisation and update of its sets; 4-5 minutes, 10-12 GB);
 - the 30k-300k DOF scaling on 1 and 2 MPI ranks (scaling.py), with the 1M
   point of target 3 when --large ran it.
 
@@ -165,7 +170,8 @@ def section(title: str) -> None:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--large", action="store_true", help="target 3 too: a step at 1.10M DOFs on 1 and 2 ranks")
+    ap.add_argument("--large", action="store_true",
+                    help="target 3 too (a step at 1.10M DOFs on 1 and 2 ranks), and the 1,000-fracture network")
     ap.add_argument("--cases", nargs="+", help="these cases of cases/ only (default: every one)")
     ap.add_argument("--keep", type=Path, help="keep the case results in this folder")
     args = ap.parse_args(argv)
@@ -174,6 +180,7 @@ def main(argv=None):
     import targets
     from friction_cases import main as friction_table
     from friction_solve import coulomb_cases, main as friction_solve
+    from flow_cost import main as flow_cost
     from injection_cost import main as injection_cost
     from mesh_disc import main as bench_mesh
     from pictures_cost import main as pictures_cost
@@ -210,6 +217,8 @@ def main(argv=None):
             friction_solve(["--cases"] + chosen)
         section("what the pictures cost: the 45-degree disc, 34 steps, with pictures / --no-plots, paired")
         pictures_cost(["--repeat", str(args.repeat)])
+        section("a time step of the flow along the fractures against an elastic solve of the same mesh")
+        flow_cost([])
         section("issue 16, targets 1-3" if args.large else "issue 16, targets 1-2 (3 with --large)")
         print(baseline.get("about", "?"))
         tdir = out / "targets"
@@ -218,6 +227,12 @@ def main(argv=None):
         targets.disc_34(tdir, base_targets)
         targets.fine_disc(tdir, base_targets)
         large = targets.large(tdir, base_targets) if args.large else None
+        if args.large:
+            import subprocess
+
+            section("the 1,000-fracture network, sif (grid_network.py): phases and the saddle-point sets")
+            subprocess.run([sys.executable, str(ROOT / "benchmarks" / "grid_network.py"), "--sif",
+                            str(out / "network")], check=False)
     section("scaling: one step at 30k-300k DOFs" + (" and target 3's 1M" if large else "") + ", 1 and 2 ranks")
     bench_scaling(["--sizes"] + [str(n) for n in TARGETS if n < targets.LARGE_DOFS], extra=large)
     print(f"\n{'=' * 100}\nEND of the benchmark report\n{'=' * 100}")

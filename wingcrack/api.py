@@ -23,8 +23,6 @@ from .io.plotting import plot   # plot: the public `wingcrack.plot`, one functio
 from .io.summary import write_summary
 from .parallel import on_world_root
 from .progress import ProgressBar
-from .propagation import checkpoint
-from .propagation.fracture_set import FractureSet
 from .results import LastSolve, dataframe, tip_rows
 
 
@@ -87,10 +85,13 @@ def sif(case, out=None, force: bool = False) -> SifResult:
 
 
 def _sif(case, out, force) -> SifResult:
+    from .propagation.fracture_set import FractureSet   # overlap: the propagation package after the worker starts
+
+    root = on_world_root()   # MPI starts here (the solve's would), before the folder's work
     if out is not None:
         out = outdir.prepare_for_result(out, force)
     case = case.at_start()   # with a pump: t = 0, the network at its initial pressure
-    writes = out is not None and on_world_root()
+    writes = out is not None and root
     pieces = FractureSet.from_case(case).summary()
 
     def write(summary):
@@ -185,8 +186,9 @@ def _folder_lock(folder, create: bool):
 
 
 def _run(case, out, progress, plots, force, resume):
-    from .propagation import loop   # overlap: its imports (scipy's optimizers) while the worker starts
+    from .propagation import checkpoint, loop   # overlap: their imports (scipy's optimizers) after the worker starts
 
+    root = on_world_root()   # MPI starts here (the run's would), before the folder's work
     if resume:
         out = outdir.open_to_resume(out)
         try:
@@ -196,7 +198,7 @@ def _run(case, out, progress, plots, force, resume):
         outdir.check_resumable(out, len(state["steps"]), case.propagation.steps)
     elif out is not None:
         out = outdir.prepare_for_result(out, force)
-    draw = out is not None and on_world_root()
+    draw = out is not None and root
     pictures = {}
 
     def finishing(summary: dict) -> list:

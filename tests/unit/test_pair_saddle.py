@@ -172,3 +172,38 @@ def test_the_saddle_system_is_ordered_as_asked(monkeypatch):
         F = step.solve_initial(case).contact.saddle.ksp.getPC().getFactorMatrix()
         assert F.getMumpsInfog(7) == ordering
         assert not PETSc.Options().hasName(pair_saddle._PREFIX + "factor_mat_mumps_icntl_7")
+
+
+def test_the_trial_start_ends_where_the_sticking_start_does_on_a_network(monkeypatch):
+    """The saddle route's first set (contact.by_sets: the trial states of the jumps without pair forces)
+    against its old start (every closed pair sticking) on a network of 30 Coulomb fractures under
+    compression (benchmarks/grid_network.py's layout): the same forces and jumps to round-off (two direct
+    solves of the same final set: measured 5e-12), the same states but at pairs on the bound, whose force
+    the two solves give to ~1e-10 of the largest: there the label (contact.friction_problem._labels, at
+    the bound to 1e-9 of the pair's own bound) is round-off's (measured: two slipping pairs 2e-9 below the
+    bound after the old start, named sticking). The trial start's answer holds the law."""
+    import sys
+
+    sys.path.insert(0, str(CASES.parent / "benchmarks"))
+    import grid_network
+
+    import wingcrack.contact.by_sets as by_sets
+    from wingcrack.contact import friction_sets
+    from wingcrack.contact.friction import SLIP, STICK
+
+    case = Case.from_dict(grid_network.coulomb(grid_network.case(30)))
+    monkeypatch.setattr(solver, "DENSE_ROWS", 0)
+    trial = step.solve_initial(case).contact.result
+    iterate = friction_sets.iterate_states
+    monkeypatch.setattr(by_sets, "iterate_states", lambda *a, **k: iterate(*a, **{**k, "trial": False}))
+    sticking = step.solve_initial(case).contact.result
+    assert np.sum(trial.state == SLIP) > 100 and np.sum(trial.state == STICK) > 100 and not trial.fallback
+    np.testing.assert_allclose(trial.forces, sticking.forces, rtol=0, atol=1e-10 * np.abs(sticking.forces).max())
+    jscale = max(np.abs(sticking.jump0).max(), np.abs(sticking.jump).max())
+    np.testing.assert_allclose(trial.jump, sticking.jump, rtol=0, atol=1e-10 * jscale)
+    np.testing.assert_array_equal(trial.active, sticking.active)
+    differ = np.flatnonzero(trial.state != sticking.state)
+    at_bound = np.abs(np.abs(sticking.forces) - sticking.bound()) <= 1e-8 * np.abs(sticking.forces).max()
+    assert len(differ) <= 4 and np.all(at_bound[differ])
+    # the law's residuals, relative to the largest traction and to the jump scale: round-off of the solves
+    assert max(trial.friction_residuals(np.ones(len(trial.forces))).values()) < 1e-8

@@ -35,8 +35,10 @@ def solve_by_sets(solve, jump0, target, normal, law: FrictionRows, c0: float, ma
     states = None
     for k in SCALINGS:
         # each scaling goes on from the sets where the last one cycled, not from the start: a set is a
-        # factorisation of the whole saddle system here, and the first ones change thousands of rows
-        res = iterate_states(P, P.c0 * k, P.c0 * k, max_iter, history, active, states=states)
+        # factorisation of the whole saddle system here, and the first ones change thousands of rows; the
+        # first starts from the trial states of jump0, not from every closed pair sticking (the set after
+        # that changed a third of a network's rows to slip: one factorisation more)
+        res = iterate_states(P, P.c0 * k, P.c0 * k, max_iter, history, active, states=states, trial=states is None)
         if res is not None:
             return res
         states = P.last_states

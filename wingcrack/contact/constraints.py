@@ -27,7 +27,6 @@ import numpy as np
 import wingcrack_kernels as K
 
 from ..face_law import FACES
-from .friction import FrictionRows
 
 NORMAL, TANGENTIAL = 0, 1
 
@@ -66,6 +65,8 @@ class ConstraintRows:
 
     def friction_law(self):
         """contact.friction.FrictionRows of these rows."""
+        from .friction import FrictionRows   # overlap: its scipy.optimize loads at the first solve, not with the step
+
         return FrictionRows(self.coulomb, self.partner, self.friction, self.cohesion * self.weight)
 
 

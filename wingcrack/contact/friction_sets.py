@@ -30,18 +30,22 @@ def start_states(start: FrictionResult, P: PairProblem) -> tuple:
 
 
 def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, states=None, cohesive=None, frozen=None,
-                C_start=None):
+                C_start=None, trial=False):
     """The three-state iteration with complementarity parameters cn, ct,
     from `states` (A, T, sign) or else from the contact set `active`; None
     when the state sets cycle (or do not settle in max_iter). cohesive:
     (m,) the Coulomb rows that hold their cohesion, fixed (the fallback's
     law); None: decided by each iterate's opening (see the module). frozen:
     (m,) rows whose states (and C_start's touching flags) stay those of the
-    start (_cycling_rows: solved on their own)."""
+    start (_cycling_rows: solved on their own). trial: without `states`,
+    the closed pairs start in the states the update gives the iterate of
+    no pair forces (forces = 0, the jumps jump0: slipping where the trial force
+    c_t ds exceeds the bound c_n f (g - w) of the penetration), instead of
+    all sticking: the iterate the start comes from anyway, one set fewer
+    where a set costs a factorisation (contact.by_sets)."""
     S, jump0, target, normal, law = P.S, P.jump0, P.target, P.normal, P.law
     m = len(jump0)
     coulomb = np.asarray(law.coulomb, bool)
-    f = np.asarray(law.friction, float)
     b0 = np.asarray(law.cohesion_force, float)
     ci, pi = P.ci, P.pi
     fixed = cohesive is not None
@@ -61,6 +65,11 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
     C[ci] = cohesive[ci] if fixed else (A[pi] | ((jump0 - target)[pi] <= 1.5 * P.touch)) & cohesion
     if states is None:
         T[ci] = np.where(A[pi] | (C[ci] & (b0[ci] > 0)), STICK, OPEN)
+        if trial and P.G.shape[1] == 0:
+            _, T_trial, sign, _ = _next_states(P, np.zeros(m), jump0, A, np.full(m, OPEN, np.int8), np.zeros(m), C,
+                                               cn, ct, cohesive)
+            T = np.where(T == OPEN, OPEN, np.where(T_trial == SLIP, SLIP, STICK)).astype(np.int8)
+            sign = np.where(T == SLIP, sign, 0.0)
     if C_start is not None:
         C = np.where(frozen, C_start, C) if frozen is not None else np.array(C_start, bool)
     seen = {_key(A, T, sign, C): 0}
@@ -81,30 +90,7 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
         if not np.all(np.isfinite(jump)):
             raise ComputationError("contact: NaN in the friction iteration")
         history.append(int(A.sum()))
-        gamma = jump - target                     # on normal rows: w + g
-        A_new = normal & (forces - cn * gamma > 0)
-        C_new = C.copy()
-        if not fixed:
-            C_new[ci] = (A_new[pi] | (gamma[pi] <= 1.5 * P.touch)) & cohesion
-        T_new = np.full(m, OPEN, np.int8)
-        sign_new = np.zeros(m)
-        F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(forces[pi] - cn * gamma[pi], 0.0)
-        z = -forces[ci] + ct * (jump[ci] - target[ci])
-        band = STATE_BAND * max(np.max(np.abs(forces), initial=0.0), 1e-300)
-        slipping = np.abs(z) > F + band
-        direction = np.sign(z)
-        # a slipping pair sticks again only when its increment turns against its direction by more than the
-        # band, as a sticking one slips only above the bound by more than it (see STATE_BAND); and it sticks
-        # then, whatever its trial force: a slip that reverses goes through stick. Straight to the opposite
-        # slip, a fracture's pairs alternated between the two directions, each with the increment against
-        # it (a network of 1,000 fractures cycled so under every scaling; 74 of 720 random pair systems)
-        was = T[ci] == SLIP
-        keep = was & (sign[ci] * ct * (jump[ci] - target[ci]) >= -band)
-        slipping = np.where(was, keep, slipping)
-        direction = np.where(keep, sign[ci], direction)
-        closed = A_new[pi] | (C_new[ci] & (b0[ci] > 0))
-        T_new[ci] = np.where(closed, np.where(slipping, SLIP, STICK), OPEN)
-        sign_new[ci] = np.where(T_new[ci] == SLIP, direction, 0.0)
+        A_new, T_new, sign_new, C_new = _next_states(P, forces, jump, A, T, sign, C, cn, ct, cohesive)
         if frozen is not None:
             A_new, T_new = np.where(frozen, A, A_new), np.where(frozen, T, T_new)
             sign_new, C_new = np.where(frozen, sign, sign_new), np.where(frozen, C, C_new)
@@ -129,6 +115,43 @@ def iterate_states(P: PairProblem, cn, ct, max_iter, history, active=None, state
         visited.append(states_of(A_new, T_new, sign_new, C_new))
         A, T, sign, C = A_new, T_new, sign_new, C_new
     return None
+
+
+def _next_states(P: PairProblem, forces, jump, A, T, sign, C, cn, ct, cohesive):
+    """(A, T, sign, C) of the next set from an iterate (forces, jump) of the set
+    (A, T, sign, C): the semi-smooth Newton update (see the module), the
+    touching flags fixed where `cohesive` is given."""
+    m = len(forces)
+    ci, pi = P.ci, P.pi
+    f = np.asarray(P.law.friction, float)
+    b0 = np.asarray(P.law.cohesion_force, float)
+    cohesion = b0[ci] > 0
+    target = P.target
+    gamma = jump - target                     # on normal rows: w + g
+    A_new = P.normal & (forces - cn * gamma > 0)
+    C_new = C.copy()
+    if cohesive is None:
+        C_new[ci] = (A_new[pi] | (gamma[pi] <= 1.5 * P.touch)) & cohesion
+    T_new = np.full(m, OPEN, np.int8)
+    sign_new = np.zeros(m)
+    F = np.where(C_new[ci], b0[ci], 0.0) + f[ci] * np.maximum(forces[pi] - cn * gamma[pi], 0.0)
+    z = -forces[ci] + ct * (jump[ci] - target[ci])
+    band = STATE_BAND * max(np.max(np.abs(forces), initial=0.0), 1e-300)
+    slipping = np.abs(z) > F + band
+    direction = np.sign(z)
+    # a slipping pair sticks again only when its increment turns against its direction by more than the
+    # band, as a sticking one slips only above the bound by more than it (see STATE_BAND); and it sticks
+    # then, whatever its trial force: a slip that reverses goes through stick. Straight to the opposite
+    # slip, a fracture's pairs alternated between the two directions, each with the increment against
+    # it (a network of 1,000 fractures cycled so under every scaling; 74 of 720 random pair systems)
+    was = T[ci] == SLIP
+    keep = was & (sign[ci] * ct * (jump[ci] - target[ci]) >= -band)
+    slipping = np.where(was, keep, slipping)
+    direction = np.where(keep, sign[ci], direction)
+    closed = A_new[pi] | (C_new[ci] & (b0[ci] > 0))
+    T_new[ci] = np.where(closed, np.where(slipping, SLIP, STICK), OPEN)
+    sign_new[ci] = np.where(T_new[ci] == SLIP, direction, 0.0)
+    return A_new, T_new, sign_new, C_new
 
 
 def _balanced(P: PairProblem, forces) -> bool:

@@ -153,11 +153,9 @@ class ContactProblem:
             eq = (rows.normal & A) | prescribed | (T == STICK)
             return sd.respond(eq, T == SLIP, sign, law.friction, np.where(C, law.cohesion_force, 0.0), target, p.b, y)
 
-        # the complementarity parameters' scale: a jump of the faces against a force per unit length, ~E
-        lame_lambda, lame_mu = float(p.lame_lambda.value), float(p.lame_mu.value)
-        c0 = 4.0 * lame_mu * (lame_lambda + lame_mu) / (lame_lambda + 2.0 * lame_mu)
         progress.doing(f"contact at load factor {load_factor:.6g}: {len(rows)} pair rows, a saddle-point system a set")
-        res = solve_by_sets(solve, jump0, target, rows.normal, law, c0, active=active, start=self.result,
+        # the complementarity parameters' scale: a force per unit length against a jump of the faces, ~E
+        res = solve_by_sets(solve, jump0, target, rows.normal, law, sd.stiffness, active=active, start=self.result,
                             respond=respond)
         arr = u.vector.getArray()
         arr[:n] = last["u"]

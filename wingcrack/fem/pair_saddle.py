@@ -17,14 +17,24 @@ B_j^T u = target_j; a slipping row forces_j + sign_j f_j forces_p = -sign_j c_j
 every set, the lower rows change values, not places: one pattern, factorised
 by MUMPS (LU). The jumps are B^T u.
 
+The equality rows are scaled by the faces' jump stiffness (PairSaddle.stiffness, ~E):
+s B_j^T u = s target_j, so that every lower row is a force (N/m) as the
+slipping and open rows are, and a row that changes from one kind to the
+other changes the matrix by a term of its own size (unscaled, a row from
+slip to stick changed it by 1 against a response of 1e-10: the update's
+capacitance matrix below lost ten digits to that cancellation).
+
 The active set's first iterations change thousands of rows, its last ones a
-few: a set whose lower rows differ from the factorised set's in r rows
-is that matrix plus a rank-r change, solved through the factorisation kept
-(the Sherman-Morrison-Woodbury formula, below) with one solve for the right-
-hand side and one for each row not changed before; the factorisation is
-renewed when a set changes more rows than REUSE_ROWS, or than the memory
-of their columns allows (REUSE_BYTES), or when the update's residual is not
-that of a direct solve.
+few hundred at most, and these change the same rows back and forth: a
+set whose lower rows differ from the factorised set's in r rows is that
+matrix plus a rank-r change, solved through the factorisation kept by the
+Sherman-Morrison-Woodbury formula (_updated), with two solves and the
+entries of the factors' inverse at the changed rows' columns
+(fem.mumps_inverse: MUMPS prunes its solves to them, so a few hundred rows
+cost about what two solves do, where a column each cost a solve). The
+factorisation is renewed when a set changes more than REUSE_ROWS rows, or
+needs more than REUSE_ENTRIES of those entries, or when the update's
+residual is not that of a direct solve.
 
 The u block keeps the DOLFINx dof layout (rows and columns by global dof);
 the m multiplier rows are the last rank's, after its own dofs, so that the
@@ -39,18 +49,17 @@ from petsc4py import PETSc
 from scipy import sparse
 
 from ..errors import ComputationError
-from . import mumps_failure
+from . import mumps_failure, mumps_inverse
 from .solution_span import SolutionSpan
 
 _PREFIX = "wingcrack_saddle_"
-#: at most this many changed rows are solved by an update of the factorisation kept: an update's
-#: columns of F^-1, solved together in blocks, cost about a numeric factorisation at this many, and
-#: they serve the sets after it (an active set's last iterations change the same few rows back and forth)
-REUSE_ROWS = 60
-#: and at most this many bytes of those columns on a process (a column is 8 bytes a local dof)
-REUSE_BYTES = 1 << 30
-#: columns solved together (their right-hand sides and solutions are two dense blocks of this width)
-BLOCK = 16
+#: at most this many changed rows are solved by an update of the factorisation kept (its capacitance
+#: matrix is dense, r x r) ...
+REUSE_ROWS = 1000
+#: ... and at most this many entries of the inverse computed for it (rows changed x the columns their
+#: lower rows use): on a saddle system of 3.8M unknowns, 2e6 of them cost about half a numeric
+#: factorisation, a few thousand about a solve
+REUSE_ENTRIES = 2_000_000
 #: an update whose residual exceeds this times ||F|| ||x|| + ||b|| (infinity norms; a direct solve's is
 #: ~1e-16 of it) is not trusted: the set is factorised instead
 UPDATE_RESIDUAL = 1e-11
@@ -117,6 +126,12 @@ class PairSaddle:
             self._low_r, self._low_c, self._low_v = r_all[order], c_all[order], v_all[order]
         # the pattern: upper rows = K's local rows + -B_free's entries; lower rows (last rank) = B^T entries,
         # the diagonal and the partner column of Coulomb rows
+        self.partner = np.asarray(rows.partner, np.int64)
+        self.rows = rows
+        # the faces' jump stiffness: the force per unit length a unit jump takes, ~E (the scale of the
+        # equality rows here, and of the complementarity parameters of the iteration, contact.by_sets)
+        lame_lambda, lame_mu = float(problem.lame_lambda.value), float(problem.lame_mu.value)
+        self.stiffness = 4.0 * lame_mu * (lame_lambda + lame_mu) / (lame_lambda + 2.0 * lame_mu)
         K = problem.A
         indptr, indices, values = K.getValuesCSR()
         Kc = sparse.csr_matrix((values, indices, indptr), shape=(self.n_owned, n_global + m))
@@ -124,8 +139,6 @@ class PairSaddle:
         upper = (Kc + Bf).tocsr()
         del Kc, Bf, indptr, indices, values
         upper.sort_indices()
-        self.partner = np.asarray(rows.partner, np.int64)
-        self.rows = rows
         if last:
             lower_pattern = self._lower(np.ones(m, bool), np.zeros(m), np.zeros(m), pattern=True)
             self._lower_pattern = lower_pattern
@@ -154,9 +167,8 @@ class PairSaddle:
         self.x, self.rhs = self.M.createVecs()
         self.factorisations = 0
         self.updates = 0      # sets solved by an update of the factorisation kept
-        self.columns = 0      # solves of columns of F^-1 for them
+        self.entries = 0      # entries of F^-1 computed for them
         self._factored = None  # the lower rows' values of the factorised set (last rank; True elsewhere)
-        self._Z = {}           # row j -> F^-1 e_(n + j): (owned part, its values at the lower columns)
         self._gather_columns(last)
         self._span = SolutionSpan(self.n_owned, self.n_owned, 2, comm)   # K^-1 b of the last loads (unconstrained)
 
@@ -181,14 +193,15 @@ class PairSaddle:
         return self._seq.getArray(readonly=True).copy()
 
     def _lower(self, eq, coef, diag, pattern=False) -> sparse.csr_matrix:
-        """The m lower rows (global columns): B^T on equality rows, `diag` on
+        """The m lower rows (global columns): B^T on equality rows (scaled by
+        the stiffness, see the module), `diag` on
         the diagonal, coef at the partner column of slipping rows; with
         pattern, every place any set may use (values 1)."""
         m, n = self.m, self.n_global
         keep = np.ones(len(self._low_r), bool) if pattern else eq[self._low_r]
         rows = [self._low_r, np.arange(m)]
         cols = [self._low_c, n + np.arange(m)]
-        vals = [np.where(keep, self._low_v, 0.0) if not pattern else np.ones(len(self._low_r)),
+        vals = [np.where(keep, self.stiffness * self._low_v, 0.0) if not pattern else np.ones(len(self._low_r)),
                 np.ones(m) if pattern else diag]
         c = np.flatnonzero(self.rows.coulomb)
         rows.append(c)
@@ -234,7 +247,7 @@ class PairSaddle:
         coef = np.where(slip, sign * f, 0.0)
         coef = np.where(slip & (self.partner >= 0), coef, 0.0)
         diag = np.where(eq, 0.0, 1.0)
-        low_rhs = np.where(eq, target, np.where(slip, -sign * b0_cohesive, 0.0))
+        low_rhs = np.where(eq, self.stiffness * target, np.where(slip, -sign * b0_cohesive, 0.0))
         arr = self.rhs.getArray()
         arr[:self.n_owned] = b.getArray(readonly=True)[:self.n_owned]
         low = None
@@ -272,7 +285,6 @@ class PairSaddle:
         self.factorisations += 1
         self._norm = self.M.norm(PETSc.NormType.INFINITY)
         self._factored = low if self.owns_forces else True
-        self._Z = {}
         self._solve(self.rhs, self.x)
         return self.x.getArray(readonly=True).copy()
 
@@ -294,47 +306,56 @@ class PairSaddle:
         """The set's solution through the factorisation kept, where the set
         differs from the factorised one in few rows; None where it must be
         factorised. M = F + E^T D (E: the r changed rows, D: their change),
-        M^-1 b = y - Z (I + D Z)^-1 D y with y = F^-1 b, Z = F^-1 E^T; each
-        column of Z is solved once and kept while F is. Collective."""
-        if self._factored is None:
+        M^-1 b = F^-1 (b - E^T c) with c = (I + D Z)^-1 D F^-1 b and
+        Z = F^-1 E^T: of Z only the entries at D's columns are needed (D Z),
+        computed by MUMPS without a solve of each column. Collective."""
+        if self._factored is None or not mumps_inverse.available():
             return None
-        changed = None
+        changed, diff = None, None
         if self.owns_forces:
             diff = low - self._factored
             changed = np.flatnonzero(np.add.reduceat(np.abs(diff), self._lower_pattern.indptr[:-1]) > 0.0) \
                 if len(diff) else np.zeros(0, np.int64)
         changed = self.comm.bcast(changed, root=self.comm.size - 1)
-        new = [j for j in changed.tolist() if j not in self._Z]
-        kept = len(self._Z) + len(new)
-        if len(changed) > REUSE_ROWS or kept * 8 * len(self.x.getArray(readonly=True)) > REUSE_BYTES:
+        if len(changed) > REUSE_ROWS:
+            return None
+        D, used, columns = None, None, None
+        if self.owns_forces and len(changed):
+            D = self._difference(diff, changed)
+            used = np.unique(D.indices)               # D's columns, among the gathered ones
+            columns = self._cols[used]                # their global indices
+        columns = self.comm.bcast(columns, root=self.comm.size - 1)
+        if len(changed) and len(changed) * len(columns) > REUSE_ENTRIES:
             return None
         y = self.x
-        if not len(changed):
-            self._solve(self.rhs, y)
-            return y.getArray(readonly=True).copy()
-        for a in range(0, len(new), BLOCK):
-            self._columns(new[a:a + BLOCK])
-        e = self.rhs.duplicate()
         self._solve(self.rhs, y)
-        x = y.getArray(readonly=True).copy()
+        if not len(changed):
+            return y.getArray(readonly=True).copy()
         yc = self._at_columns(y)
+        W = mumps_inverse.inverse_entries(self.ksp.getPC().getFactorMatrix(), columns, self.n_global + changed,
+                                          self.comm)   # Z at D's columns, on rank 0
+        if self.comm.size > 1:
+            W = self.comm.bcast(W, root=0)
         c = None
-        if self.owns_forces:
-            D = self._difference(diff, changed)
-            Zc = np.stack([self._Z[j][1] for j in changed], axis=1)
-            C = np.eye(len(changed)) + D @ Zc
-            cond = np.linalg.cond(C)
-            c = np.linalg.solve(C, D @ yc) if cond < UPDATE_CONDITION else None
+        if self.owns_forces and W is not None:
+            C = np.eye(len(changed)) + D[:, used] @ W
+            if np.linalg.cond(C) < UPDATE_CONDITION:
+                c = np.linalg.solve(C, D @ yc)
         c = self.comm.bcast(c, root=self.comm.size - 1)
         if c is None:
-            e.destroy()
             return None
-        x -= np.stack([self._Z[j][0] for j in changed], axis=1) @ c
-        ok = self._residual_ok(x, diff if self.owns_forces else None, changed, e)
+        e = self.rhs.duplicate()
+        self.rhs.copy(e)
+        if self.owns_forces:
+            e.getArray()[self.n_owned + changed] -= c
+        self._solve(e, y)
+        x = y.getArray(readonly=True).copy()
+        ok = self._residual_ok(x, diff, changed, e)
         e.destroy()
         if not ok:
             return None
         self.updates += 1
+        self.entries += len(changed) * len(columns)
         return x
 
     def _block_solve(self, rhs: np.ndarray) -> list:
@@ -359,16 +380,6 @@ class PairSaddle:
         for obj in (B, X):
             obj.destroy()
         return out
-
-    def _columns(self, rows) -> None:
-        """Z's columns F^-1 e_(n + j) of `rows`, solved together."""
-        rhs = np.zeros((self.x.getLocalSize(), len(rows)))
-        if self.owns_forces:
-            rhs[self.n_owned + np.asarray(rows, np.int64), np.arange(len(rows))] = 1.0
-        for j, column in zip(rows, self._block_solve(rhs)):
-            self._Z[j] = (column.getArray(readonly=True).copy(), self._at_columns(column))
-            column.destroy()
-        self.columns += len(rows)
 
     def respond(self, eq, slip, sign, f, b0_cohesive, target, b: PETSc.Vec, y) -> tuple[np.ndarray, np.ndarray]:
         """(jump0_y, S_yy): the jumps of the rows y (bool (m,)) and their
@@ -414,7 +425,6 @@ class PairSaddle:
     def destroy(self) -> None:
         for obj in (self.ksp, self.M, self.x, self.rhs, self._seq, self._scatter):
             obj.destroy()
-        self._Z = {}
 
 
 def _factor_failure(ksp, err) -> str:
