@@ -4,7 +4,9 @@ benchmarks/baseline.json), what the pictures cost from
 benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), and the
 1,000-fracture network's table (docs/_generated/network.md) from
 benchmarks/grid_network.json (`benchmarks/grid_network.py --sif OUT --base
-CHECKOUT --record`), so that the page shows what the files hold and no
+CHECKOUT --record`), and the code's structure before and after the
+renovation (docs/_generated/structure.md) from benchmarks/structure.json
+(`benchmarks/structure.py --before CHECKOUT --record`), so that the page shows what the files hold and no
 figure is copied by hand. `make docs` runs it.
 
     python benchmarks/doc_tables.py [RESULTS.json] [-o OUT.md]
@@ -26,10 +28,12 @@ NETWORK_PHASES = ["mesh", "to_dolfinx", "assemble", "contact", "solve", "sif", "
 
 #: what the pictures cost (its own section, whatever the newest results file)
 PICTURES = ROOT / "benchmarks" / "pictures_cost.json"
+#: the code's structure measured before and after (not a `make bench` results file)
+STRUCTURE = ROOT / "benchmarks" / "structure.json"
 
 
 def newest_results() -> Path:
-    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK)),
+    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK, STRUCTURE)),
                    key=lambda p: p.stat().st_mtime)
     if not files:
         raise SystemExit("benchmarks/doc_tables.py: no results file in benchmarks/")
@@ -113,6 +117,28 @@ def render_pictures(data: dict, source: str) -> str:
     return "\n".join(out)
 
 
+def render_structure(data: dict, source: str) -> str:
+    """The structure's figures, one row each, before and after."""
+    b, a = data["before"], data["after"]
+
+    def places(v):
+        return "<br>".join(f"{path} {n}" for n, path in v)
+
+    def cycles(v):
+        return "<br>".join(" <-> ".join(c) for c in v) or "none"
+
+    rows = [("largest files (lines)", places), ("longest functions (lines)", places),
+            ("imports inside functions", str), ("import cycles", cycles), ("comment and docstring share", str),
+            ("lines of wingcrack/, meshing/, procs/", None), ("README.md lines", str)]
+    out = [f"Read from `{source}` (`benchmarks/structure.py --before CHECKOUT --record`).", "",
+           f"| figure | before ({b['commit']}) | after ({a['commit']}) |", "|---|---|---|"]
+    for key, fmt in rows:
+        name = "lines" if fmt is None else key
+        fmt = fmt or str
+        out.append(f"| {key} | {fmt(b[name])} | {fmt(a[name])} |")
+    return "\n".join(out + [""])
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("results", nargs="?", type=Path)
@@ -125,6 +151,9 @@ def main(argv=None):
     if PICTURES.exists():
         text += "\n" + render_pictures(json.loads(PICTURES.read_text()), PICTURES.relative_to(ROOT).as_posix())
     a.out.write_text(text)
+    if STRUCTURE.exists():
+        (a.out.parent / "structure.md").write_text(render_structure(json.loads(STRUCTURE.read_text()),
+                                                                    STRUCTURE.relative_to(ROOT).as_posix()))
     if NETWORK.exists():
         (a.out.parent / "network.md").write_text(render_network(json.loads(NETWORK.read_text()),
                                                                 NETWORK.relative_to(ROOT).as_posix()))
