@@ -127,15 +127,14 @@ def render_structure(data: dict, source: str) -> str:
     def cycles(v):
         return "<br>".join(" <-> ".join(c) for c in v) or "none"
 
-    rows = [("largest files (lines)", places), ("longest functions (lines)", places),
-            ("imports inside functions", str), ("import cycles", cycles), ("comment and docstring share", str),
-            ("lines of wingcrack/, meshing/, procs/", None), ("README.md lines", str)]
+    rows = [("largest files (lines)", "largest files", places),
+            ("longest functions (lines)", "longest functions", places),
+            ("imports inside functions", "imports inside functions", str), ("import cycles", "import cycles", cycles),
+            ("comment and docstring share", "comment share", str),
+            ("lines of wingcrack/, meshing/, procs/", "lines", str), ("README.md lines", "README.md lines", str)]
     out = [f"Read from `{source}` (`benchmarks/structure.py --before CHECKOUT --record`).", "",
            f"| figure | before ({b['commit']}) | after ({a['commit']}) |", "|---|---|---|"]
-    for key, fmt in rows:
-        name = "lines" if fmt is None else key
-        fmt = fmt or str
-        out.append(f"| {key} | {fmt(b[name])} | {fmt(a[name])} |")
+    out += [f"| {label} | {fmt(b[key])} | {fmt(a[key])} |" for label, key, fmt in rows]
     return "\n".join(out + [""])
 
 
