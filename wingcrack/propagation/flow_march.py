@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..contact.constraints import pre_existing_pairs
-from ..contact.friction import SLIP
+from ..contact.friction_problem import SLIP
 from ..errors import ComputationError
 from ..flow.lubrication import FLOOR, Fluid, FlowState, Lubrication, Source
 from ..flow.network import FlowNetwork
