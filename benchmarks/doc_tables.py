@@ -4,10 +4,12 @@ benchmarks/baseline.json), what the pictures cost from
 benchmarks/pictures_cost.json (benchmarks/pictures_cost.py --json), and the
 1,000-fracture network's table (docs/_generated/network.md) from
 benchmarks/grid_network.json (`benchmarks/grid_network.py --sif OUT --base
-CHECKOUT --record`), and what a time step of the flow along the fractures
-costs from benchmarks/flow_cost.json (benchmarks/flow_cost.py --json), so
-that the page shows what the files hold and no figure is copied by hand.
-`make docs` runs it.
+CHECKOUT --record`), the code's structure before and after the
+renovation (docs/_generated/structure.md) from benchmarks/structure.json
+(`benchmarks/structure.py --before CHECKOUT --record`), and what a time step
+of the flow along the fractures costs from benchmarks/flow_cost.json
+(benchmarks/flow_cost.py --json), so that the page shows what the files hold
+and no figure is copied by hand. `make docs` runs it.
 
     python benchmarks/doc_tables.py [RESULTS.json] [-o OUT.md]
 """
@@ -17,6 +19,8 @@ import argparse
 import json
 import statistics
 from pathlib import Path
+
+import flow_cost
 
 ROOT = Path(__file__).resolve().parents[1]
 PHASES = ["mesh", "to_dolfinx", "assemble", "factorize", "contact", "solve", "sif",
@@ -30,10 +34,12 @@ NETWORK_PHASES = ["mesh", "to_dolfinx", "assemble", "contact", "solve", "sif", "
 PICTURES = ROOT / "benchmarks" / "pictures_cost.json"
 #: what a time step of the flow costs (its own section too)
 FLOW = ROOT / "benchmarks" / "flow_cost.json"
+#: the code's structure measured before and after (not a `make bench` results file)
+STRUCTURE = ROOT / "benchmarks" / "structure.json"
 
 
 def newest_results() -> Path:
-    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK, FLOW)),
+    files = sorted((p for p in ROOT.glob("benchmarks/*.json") if p not in (PICTURES, NETWORK, STRUCTURE, FLOW)),
                    key=lambda p: p.stat().st_mtime)
     if not files:
         raise SystemExit("benchmarks/doc_tables.py: no results file in benchmarks/")
@@ -120,13 +126,33 @@ def render_pictures(data: dict, source: str) -> str:
 def render_flow(data: dict, source: str) -> str:
     """A time step of the flow against the elastic solve of its mesh: each
     case's row (benchmarks/flow_cost.py's own table) and the largest ratio."""
-    import flow_cost
     worst = max(c["ratio"] for c in data["cases"])
     out = ["## A time step of the flow along the fractures", "", f"Read from `{source}`: {data['about']}; load "
            f"average (1 min) {data['load'][0]} before and {data['load'][1]} after, on {data['cores']} cores.", "",
            f"*How:* {data['how']}.", ""] + flow_cost.HEADER + [flow_cost.row(c) for c in data["cases"]]
     out += ["", f"The largest time step / elastic solve: {worst:.3f} (the bound: {data['bound']:g}).", ""]
     return "\n".join(out)
+
+
+def render_structure(data: dict, source: str) -> str:
+    """The structure's figures, one row each, before and after."""
+    b, a = data["before"], data["after"]
+
+    def places(v):
+        return "<br>".join(f"{path} {n}" for n, path in v)
+
+    def cycles(v):
+        return "<br>".join(" <-> ".join(c) for c in v) or "none"
+
+    rows = [("largest files (lines)", "largest files", places),
+            ("longest functions (lines)", "longest functions", places),
+            ("imports inside functions", "imports inside functions", str), ("import cycles", "import cycles", cycles),
+            ("comment and docstring share", "comment share", str),
+            ("lines of wingcrack/, meshing/, procs/", "lines", str), ("README.md lines", "README.md lines", str)]
+    out = [f"Read from `{source}` (`benchmarks/structure.py --before CHECKOUT --record`).", "",
+           f"| figure | before ({b['commit']}) | after ({a['commit']}) |", "|---|---|---|"]
+    out += [f"| {label} | {fmt(b[key])} | {fmt(a[key])} |" for label, key, fmt in rows]
+    return "\n".join(out + [""])
 
 
 def main(argv=None):
@@ -143,6 +169,9 @@ def main(argv=None):
     if FLOW.exists():
         text += "\n" + render_flow(json.loads(FLOW.read_text()), FLOW.relative_to(ROOT).as_posix())
     a.out.write_text(text)
+    if STRUCTURE.exists():
+        (a.out.parent / "structure.md").write_text(render_structure(json.loads(STRUCTURE.read_text()),
+                                                                    STRUCTURE.relative_to(ROOT).as_posix()))
     if NETWORK.exists():
         (a.out.parent / "network.md").write_text(render_network(json.loads(NETWORK.read_text()),
                                                                 NETWORK.relative_to(ROOT).as_posix()))

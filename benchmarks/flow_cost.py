@@ -50,7 +50,7 @@ def cases() -> dict:
 
 
 def measure(name: str, table: dict) -> dict:
-
+    # lazy: DOLFINx, which doc_tables.py (this module's table for the docs) does without
     from wingcrack import sifs
     from wingcrack.case import Case
     from wingcrack.propagation import flow_march

@@ -3,6 +3,9 @@ largest files and functions, imports inside functions, import cycles among
 the project's own modules, the share of comment and docstring lines and README.md's length.
 
     python3 benchmarks/structure.py [ROOT]          (ROOT: a checkout; default this one)
+    python3 benchmarks/structure.py --before CHECKOUT --record FILE
+                                                    (this checkout against CHECKOUT, written as
+                                                    JSON: the developer page's table, doc_tables.py)
 
 Reads the sources only (ast): nothing is imported, so any checkout can be
 measured with any python. A cycle counts every import, also those inside
@@ -10,8 +13,11 @@ functions (they are as much a dependency as one at the top).
 """
 from __future__ import annotations
 
+import argparse
 import ast
 import io
+import json
+import subprocess
 import sys
 import tokenize
 from pathlib import Path
@@ -133,8 +139,27 @@ def measure(root: Path) -> dict:
     }
 
 
+def commit_of(root: Path) -> str:
+    """The short commit of the checkout at root (its work tree as measured)."""
+    return subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"], capture_output=True,
+                          text=True, check=True).stdout.strip()
+
+
 def main(argv: list[str]) -> int:
-    root = Path(argv[0] if argv else Path(__file__).resolve().parents[1]).resolve()
+    ap = argparse.ArgumentParser()
+    ap.add_argument("root", nargs="?", type=Path, default=Path(__file__).resolve().parents[1])
+    ap.add_argument("--before", type=Path, help="another checkout, measured as the 'before'")
+    ap.add_argument("--record", type=Path, help="with --before: write both measures here as JSON")
+    a = ap.parse_args(argv)
+    root = a.root.resolve()
+    if a.before is not None:
+        data = {"before": {"commit": commit_of(a.before), **measure(a.before.resolve())},
+                "after": {"commit": commit_of(root), **measure(root)}}
+        text = json.dumps(data, indent=1)
+        if a.record:
+            a.record.write_text(text + "\n")
+        print(text)
+        return 0
     for key, value in measure(root).items():
         if isinstance(value, list):
             print(f"{key}:")

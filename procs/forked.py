@@ -9,6 +9,7 @@ never runs the parent's exit handlers.
 """
 from __future__ import annotations
 
+import ctypes
 import os
 import pickle
 import signal
@@ -60,8 +61,6 @@ def start(fn) -> Child:
     try:
         os.close(read)
         try:
-            import ctypes
-
             ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))   # PR_SET_PDEATHSIG
         except (OSError, AttributeError):
             pass

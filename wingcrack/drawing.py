@@ -28,6 +28,13 @@ import os
 import signal
 import threading
 
+from procs import forked
+from procs.worker import Channel
+
+from . import parallel
+from .errors import WriteError
+from .io import growing_animation, plotting
+
 #: no time limit, as in-process: a drawing that runs long is a large result, not a hang
 DRAW_TIMEOUT = math.inf
 
@@ -39,16 +46,15 @@ _feeding = None
 def _drawing():
     global _channel
     if _channel is None:
-        from procs.worker import Channel
-
         _channel = Channel("drawing", f"{__name__}:preload")
     return _channel
 
 
 def preload() -> None:
     """The worker's start-up: matplotlib (Agg) and the drawing modules, and a
-    first text drawn (the font cache and the font file read once)."""
-    import matplotlib
+    first text drawn (the font cache and the font file read once). Imported
+    here, in the worker: the caller's start-up never pays for matplotlib."""
+    import matplotlib   # lazy: start-up
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -72,9 +78,7 @@ _hurry = threading.Event()
 def start() -> None:
     """Start the drawing process now, without waiting (rank 0 only: the
     other ranks draw nothing)."""
-    from .parallel import world_rank
-
-    if world_rank() == 0:
+    if parallel.world_rank() == 0:
         _drawing().start()
 
 
@@ -140,8 +144,6 @@ def _draw_frames(out, first: bool, head: tuple, records: list) -> None:
 
 
 def _frames_of(out, first: bool, head: tuple, records: list) -> None:
-    from .io import growing_animation
-
     if first:
         growing_animation.begin(out, *head)
     growing_animation.add(out, records, _hurry.is_set)
@@ -193,8 +195,6 @@ def _settled() -> None:
 def pictures(out, summary: dict, history: bool, animation: bool) -> tuple[dict, list]:
     """({name: path}, warnings) of plotting.draw_pictures(out, summary, history,
     animation), drawn in the drawing process when it runs, else here."""
-    from .io import plotting
-
     _settled()
     args = (out, summary, history, animation)
     if _running():
@@ -213,9 +213,6 @@ def _pictures_answer(out, summary: dict, history: bool, animation: bool) -> tupl
     """In the worker: ("ok", plotting.draw_pictures(...)) or ("unwritten", the
     WriteError of a picture the folder did not take), which the caller
     raises as it is (the worker's other errors reach it as RuntimeError)."""
-    from .io import plotting
-    from .errors import WriteError
-
     try:
         return "ok", plotting.draw_pictures(out, summary, history, animation, beside=_beside())
     except WriteError as err:
@@ -226,8 +223,6 @@ def plot(out, history: bool, animation: bool) -> dict:
     """io.plotting.plot(out, history, animation) without `failed` (the first picture
     that cannot be drawn raises: NotDrawn with its message from the drawing
     process), in the drawing process when it runs, else here."""
-    from .io import plotting
-
     _settled()
     if _running():
         try:
@@ -243,8 +238,6 @@ def plot(out, history: bool, animation: bool) -> dict:
 
 def _plot_answer(out, history: bool, animation: bool) -> tuple:
     """In the worker: ("ok", files) or ("failed", the exception's message)."""
-    from .io import plotting
-
     try:
         return "ok", plotting.plot(out, history=history, animation=animation, beside=_beside())
     except Exception as err:  # noqa: BLE001 - the caller words it
@@ -255,6 +248,4 @@ def _beside():
     """In the worker: procs.forked.start where a second core can draw a
     picture beside this process (io.plotting.plot's `beside`), else None.
     The run is over: its process waits for the pictures."""
-    from procs import forked
-
     return forked.start if forked.available() else None

@@ -28,7 +28,6 @@ import contextlib
 import gc
 
 from . import drawing
-from .fem import preload
 from .mesh_request import MESH_TIMEOUT, start_meshing
 
 
@@ -44,6 +43,8 @@ def start_processes(mesh_timeout: float | None = MESH_TIMEOUT, pictures: bool = 
 def solving_modules():
     """Within: DOLFINx and the FE modules imported (fem.preload) and their
     objects frozen for the collector."""
+    from .fem import preload   # lazy: overlap (ffcx's 0.3 s after the worker starts; no step, no FE)
+
     preload()
     gc.freeze()
     try:

@@ -115,3 +115,20 @@ def test_a_killed_flowing_run_resumes_to_the_uninterrupted_one(tmp_path):
         assert sb["injection"]["injected"] == pytest.approx(sa["injection"]["injected"], rel=1e-8)
     for fa, fb in zip(a["fractures"], b["fractures"]):
         assert np.abs(np.array(fa["points"]) - np.array(fb["points"])).max() <= 1e-9
+
+
+def test_a_leak_off_that_outruns_the_fluid_fails_the_run_saying_so(tmp_path):
+    """Carter's leak-off is taken whatever a face holds: where it outruns
+    the fluid reaching the faces (a leak-off coefficient of 1 m/s^0.5, five
+    orders above a rock's) the network would hold less than no fluid. The
+    run fails there with its reason (exit 1), the balance it kept up to then
+    on disk, and no traceback."""
+    table = flowing_fault(frames=2)
+    table["injection"]["leak_off"] = 1.0
+    case = tmp_path / "leaky.toml"
+    case.write_text(to_toml(table))
+    proc = wingcrack("run", case, "-o", tmp_path / "out", "--quiet", "--no-plots")
+    assert proc.returncode == 1, proc.stderr
+    assert "Traceback" not in proc.stderr
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["status"].startswith("failed: step 0: by ") and "leak-off drew more fluid" in s["status"], s["status"]

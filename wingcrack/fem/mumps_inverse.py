@@ -17,6 +17,7 @@ import os
 
 import numpy as np
 from mpi4py import MPI
+import petsc4py
 from petsc4py import PETSc
 
 _LIB = []   # [the CDLL or None], found once
@@ -25,8 +26,6 @@ _LIB = []   # [the CDLL or None], found once
 def _library():
     if not _LIB:
         lib = None
-        import petsc4py
-
         found = sorted(glob.glob(os.path.join(petsc4py.get_config().get("PETSC_DIR", ""), "lib", "libpetsc*.so*")))
         if not found:   # the library this process has mapped (petsc4py loaded it)
             with open("/proc/self/maps") as maps:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import fonts
-from .pictures import FACE_BANDS, PRESSURE_BAR, pressure_colours
+from .pictures import FACE_BANDS, PRESSURE_BAR, PRESSURE_BLUES, pressure_colours
 
 #: the figure's resolution (dots per inch): the frames' pixels
 DPI = 100
@@ -44,9 +44,8 @@ MAGMA_LEVELS, GRAY_LEVELS, BLUE_LEVELS, TINTS = 64, 48, 24, 8
 def _gif_palette() -> tuple[bytes, np.ndarray]:
     """(the palette's 768 bytes, the palette index of each colour cell:
     (64**3,) for r >> 2, g >> 2, b >> 2)."""
-    import matplotlib
+    import matplotlib   # lazy: start-up
 
-    from .pictures import PRESSURE_BLUES
 
     def ramp(name, lo, hi, n):
         return np.asarray(matplotlib.colormaps[name](np.linspace(lo, hi, n)))[:, :3] * 255
@@ -93,7 +92,7 @@ class Frame:
 
     def image(self):
         """The frame as a Pillow image (for a GIF, in the GIF's palette)."""
-        from PIL import Image
+        from PIL import Image   # lazy: start-up
 
         if self.fmt != "gif":
             return Image.frombytes("RGBA", self.size, zlib.decompress(self.pixels))
@@ -111,7 +110,7 @@ class FrameDrawer:
     draws a frame over them."""
 
     def __init__(self, look, fmt: str):
-        import matplotlib
+        import matplotlib   # lazy: start-up
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         from matplotlib import patheffects
@@ -159,7 +158,7 @@ class FrameDrawer:
     def draw(self, fields, faces, title: str, drawn: list | None = None) -> Frame:
         """The frame of a step (its io.outdir.StepFields and StepFaces) under
         `title`; `drawn` (a list) gets what it banded (io.animation.animate_growth)."""
-        from matplotlib.collections import LineCollection, TriMesh
+        from matplotlib.collections import LineCollection, TriMesh   # lazy: start-up
         from matplotlib.tri import Triangulation
 
         ax, look = self.ax, self.look
@@ -210,6 +209,6 @@ class FrameDrawer:
         return frame
 
     def close(self) -> None:
-        import matplotlib.pyplot as plt
+        import matplotlib.pyplot as plt   # lazy: start-up
 
         plt.close(self.fig)

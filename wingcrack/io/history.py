@@ -12,9 +12,11 @@ import textwrap
 from pathlib import Path
 
 import numpy as np
+import wingcrack_kernels as K
 
 from . import fonts
 from .atomic import replacing
+from .faces import SLIP
 from ..schedule import Schedule
 
 
@@ -44,8 +46,6 @@ def slipping_lengths(result) -> np.ndarray:
     """(s,) the slipping length of every step of a result folder (an
     io.outdir.StoredResult), m: the summed lengths of its face edges in
     state SLIP (the + faces, io.outdir.StepFaces.lengths), from its face file."""
-    from .faces import SLIP
-
     out = np.zeros(len(result.steps))
     for k in range(len(out)):
         faces = result.faces_of(k)
@@ -54,8 +54,6 @@ def slipping_lengths(result) -> np.ndarray:
 
 
 def _k_eq(t: dict) -> float:
-    import wingcrack_kernels as K
-
     return float(K.equivalent_k(np.array([t["KI"]]), np.array([t["KII"]]), np.array([t["theta"]]))[0])
 
 
@@ -69,7 +67,7 @@ def plot_history(path: Path, summary: dict, result=None) -> dict:
     above 0, "injection pressure" in MPa and, with `result` (the folder's
     io.outdir.StoredResult, whose face files give it), "slipping length"
     in m)."""
-    import matplotlib
+    import matplotlib   # lazy: start-up
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -172,7 +170,7 @@ def _k_eq_panel(ax, h: dict, summary: dict, marker) -> None:
 def _tip_colours(keys) -> dict:
     """A colour per tip key, by its fracture (the fractures spread over a
     qualitative map, both ends of one fracture alike but for a shade)."""
-    import matplotlib
+    import matplotlib   # lazy: start-up
 
     cmap = matplotlib.colormaps["tab10" if len({k[0] for k in keys}) <= 10 else "tab20"]
     fractures = sorted({k[0] for k in keys})

@@ -14,6 +14,7 @@ import textwrap
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from . import fonts
 from .atomic import replacing
@@ -38,7 +39,7 @@ PRESSURE_BAR = "fracture pressure (MPa)"
 
 def pressure_colours(top: float):
     """(cmap, norm) of the pressure rims: Pa in [0, top] to PRESSURE_BLUES."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt   # lazy: start-up
     from matplotlib.colors import ListedColormap
 
     cmap = ListedColormap(plt.get_cmap("Blues")(np.linspace(*PRESSURE_BLUES, 256)), name="pressure")
@@ -79,7 +80,7 @@ def plot_fractures(path: Path, fractures, tips=(), rosette: float = 0.0, face_li
     grew, coloured by step; pressures: {fracture index: Pa}, the pieces of a
     fracture (their "fracture") above 0 drawn with a pressure rim.
     """
-    import matplotlib
+    import matplotlib   # lazy: start-up
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
@@ -198,7 +199,7 @@ def _pressure_entries(fig, ax, wet, cmap, norm, bars) -> dict:
     """{label: legend handle} of the pressurised fractures: one per distinct
     pressure (as the label shows it), highest first; with more than
     PRESSURE_LEGEND_MAX, one entry and a colour bar on `ax` (added to bars)."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt   # lazy: start-up
     from matplotlib import patheffects
     from matplotlib.lines import Line2D
 
@@ -311,8 +312,6 @@ def _rosette(mesh, tips) -> float:
     """The rosette radius: the farthest vertex of the triangles at a tip
     (the median over the tips). Linear in tips + cells: a network of 1,000
     fractures has 2,000 tips on a mesh of 1.9M nodes."""
-    from scipy.spatial import cKDTree
-
     if mesh is None or not tips:
         return 0.0
     t = np.array([[p["x"], p["y"]] for p in tips])

@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 #: the fluid balance's residual, relative to the fluid held: the volume is the integral of
 #: the FE opening, accurate to round-off (~1e-14 of it), so the root is solved far below
@@ -56,6 +55,8 @@ def linear_root(trials, fluid: float, c: float, p0: float) -> float | None:
     contact states hold: then the root in one solve, compressibility
     included), or None where that line gives none (V falling, or flat and
     the fluid not at the density that fills it)."""
+    from scipy.optimize import brentq   # lazy: start-up (scipy.optimize is 0.3 s, pumped runs' alone)
+
     (x1, v1), (x2, v2) = trials
     if x1 == x2 or fluid <= 0:
         return None
