@@ -346,7 +346,13 @@ def _require_fluid(state, t):
     holds, and where it outruns the fluid reaching the faces the network
     would hold less than nothing (beyond the round-off of the fluid there
     was: a closed face's opening, near nothing, at the round-off of its
-    mechanics). The model ends there (ComputationError), saying so."""
+    mechanics). The model ends there (ComputationError), saying so. Where
+    nothing leaked a node's fluid below none is no overdraw: it is open
+    faces that overlap (a negative storage aperture, as near a tip the
+    fluid's suction closes before the fluid arrives), and the balance holds
+    it as it holds the rest."""
+    if state.leaked <= 0.0:
+        return
     short = -float(np.sum(np.minimum(state.fluid, 0.0)))
     if short > OVERDRAWN * max(abs(state.initial) + abs(state.injected), 1e-300):
         raise ComputationError(f"by {t:.6g} s Carter's leak-off drew more fluid from faces than reached them "
