@@ -112,8 +112,11 @@ class Searched(Fixed):
         case = self.case
         progress.doing("the critical-load search")
         homogeneous = response_scales(case, disc, fset)   # before the solves: they may accept a slip
+        # two-sided: a secant that hits the root puts K_eq on either side of KIc by round-off (its sign may
+        # differ between one process and two); one-sided, the side below crept to the root by halves and
+        # ended 1e-6 above it. A root a hair below KIc grows (growth.reached: KIc (1 - 1e-3))
         crit = critical_load_factor(keq(case, disc, fset, grow), case.material.KIc, self.lam, homogeneous,
-                                    case.propagation.max_load_factor, accept=disc.solver.accept)
+                                    case.propagation.max_load_factor, accept=disc.solver.accept, two_sided=True)
         if crit.load_factor is None:
             limit = case.propagation.max_load_factor
             progress.doing(f"the solve at the load factor limit {limit:.6g}")
