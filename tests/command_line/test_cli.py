@@ -373,7 +373,10 @@ def test_a_slow_step_says_what_it_is_doing(command, tmp_path):
 
     env = dict(os.environ, WINGCRACK_SLOW_STEP="0.2")
     case = tmp_path / "case.toml"
-    case.write_text((ROOT / "cases" / "multi_fractures_friction.toml").read_text().replace("steps = 35", "steps = 2"))
+    # a step of the stimulation network (400 pairs, friction) takes seconds, so that the 0.2 s tick
+    # falls inside it however fast the machine (the five-fracture case's sif step could end within 0.2 s
+    # of its start: no line, and the test failed)
+    case.write_text((ROOT / "cases" / "stimulation_network.toml").read_text().replace("steps = 50", "steps = 2"))
     extra = ["--no-plots"] if command == "run" else []
     cli = [sys.executable, "-m", "wingcrack.cli", command, str(case)]
     loud = subprocess.run([*cli, "-o", str(tmp_path / "a"), *extra], capture_output=True, text=True, timeout=600,
