@@ -152,6 +152,12 @@ def check_injection(injection: Injection | None, propagation: Propagation, fract
                                                         "network's (injection.initial_pressure at t = 0, then its "
                                                         "fluid balance); leave its pressure out")
     _check_schedule(injection)
+    if injection.viscosity is not None and propagation.sif == "interaction":
+        # a viscous tip grows when the displacement correlation's K reaches what the correlation reads on
+        # the viscous tip asymptote (propagation.viscous_tip): the interaction integral is not that reading
+        raise CaseError("propagation.sif", '"interaction" cannot drive a tip the viscous fluid moves: its growth '
+                                           "criterion is the displacement correlation's reading of the tip "
+                                           'asymptote; leave sif = "correlation" (the default)')
     if injection.point is not None:
         tol = REL_TOL * float(domain.length_scale())
         p = np.asarray(injection.point, float)

@@ -26,10 +26,12 @@ _LIB = []   # [the CDLL or None], found once
 def _library():
     if not _LIB:
         lib = None
-        found = sorted(glob.glob(os.path.join(petsc4py.get_config().get("PETSC_DIR", ""), "lib", "libpetsc*.so*")))
-        if not found:   # the library this process has mapped (petsc4py loaded it)
-            with open("/proc/self/maps") as maps:
-                found = sorted({line.split()[-1] for line in maps if "/libpetsc" in line and ".so" in line})
+        # the library this process has mapped (petsc4py loaded it: F's handle is that library's), and
+        # PETSC_DIR's only where none is mapped (another build's symbols would get a handle not theirs)
+        with open("/proc/self/maps") as maps:
+            found = sorted({line.split()[-1] for line in maps if "/libpetsc" in line and ".so" in line})
+        if not found:
+            found = sorted(glob.glob(os.path.join(petsc4py.get_config().get("PETSC_DIR", ""), "lib", "libpetsc*.so*")))
         for path in found:
             try:
                 candidate = ctypes.CDLL(path)

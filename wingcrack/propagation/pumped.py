@@ -51,7 +51,7 @@ class Pumped(Fixed):
                                               m.E, scales, pressure_scale(case))
         if step.stop is not None:
             self._solve_where_it_stops(disc, fset)
-            return Found(step.pressure, step.solves + 1, stop=lambda tips: self._stopped(tips, grow))
+            return Found(step.pressure, step.solves, stop=lambda tips: self._stopped(tips, grow))
         self.lam = step.pressure
         return Found(self.lam, step.solves)
 
@@ -62,6 +62,7 @@ class Pumped(Fixed):
         if step.stop == "limit":
             limit = pump.search_limit(self.case.material.E)
             disc.solver.solve(limit)
+            step.solves += 1   # the balance's stop counts its own (injection.stopped)
             v = pump.network_volume(disc, fset.fractures)
             step.pressure, step.volume, step.time = limit, v, max(pump.time_of(v, limit), pump.time)
             step.history.append((step.time, limit, v))
