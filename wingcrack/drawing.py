@@ -71,8 +71,33 @@ def preload() -> None:
 #: the signal that tells the drawing process to end the frames' call it is in (Frames.settle): one whose
 #: default action is to be ignored, so that a worker still starting (its preload not done) is not killed by it
 HURRY = signal.SIGURG
+
+
+class _Flag:
+    """A flag that a signal handler sets. Python runs a handler in the main
+    thread between two of its bytecodes, also inside a lock that thread
+    holds: with a threading.Event, HURRY arriving inside _draw_frames'
+    clear() ran set() on the lock clear() held, and the drawing process
+    waited for itself forever (the run with it: DRAW_TIMEOUT). One
+    attribute's store takes no lock; the frames' thread reads it."""
+
+    __slots__ = ("up",)
+
+    def __init__(self):
+        self.up = False
+
+    def set(self) -> None:
+        self.up = True
+
+    def clear(self) -> None:
+        self.up = False
+
+    def is_set(self) -> bool:
+        return self.up
+
+
 #: set in the worker by HURRY: the frames' thread stops after the frame it draws
-_hurry = threading.Event()
+_hurry = _Flag()
 
 
 def start() -> None:

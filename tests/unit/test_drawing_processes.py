@@ -87,3 +87,46 @@ def test_the_drawing_process_takes_hurry_at_any_moment():
     os.kill(pid, drawing.HURRY)   # after its preload: its handler
     assert channel.call(worker_pid, (), 60.0) == pid and channel.running()
     assert signal.getsignal(drawing.HURRY) == signal.SIG_DFL   # this process's own is untouched
+
+
+def clear_hurry_for(seconds):
+    """In the drawing process: _draw_frames' clear() of the hurry flag, again
+    and again for `seconds` (HURRY may come at any moment of one)."""
+    from wingcrack import drawing
+
+    end, n = time.monotonic() + seconds, 0
+    while time.monotonic() < end:
+        drawing._hurry.clear()
+        n += 1
+    return n
+
+
+def test_hurry_inside_the_flags_clear_does_not_hang_the_drawing_process():
+    """HURRY coming while the drawing process clears the flag (a frames'
+    call just begun as Frames.settle sends it): with a threading.Event the
+    handler's set() waited on the lock clear() held, for ever (the run with
+    it: the drawing has no time limit; CI's suite hung so). Here HURRY comes
+    every millisecond for 2 s of clears; the call must answer. The Event
+    failed so in each of 3 tries (one signal waits for ever; the next ones
+    nest their handlers on the same wait until Python's recursion limit,
+    which is the error the call then reports); the 60 s limit catches a
+    single wait, 30 times the work."""
+    from procs.worker import WorkerTimeout
+
+    from wingcrack import drawing
+
+    channel = drawing._drawing()
+    channel.shutdown()
+    assert channel.call(worker_pid, (), 60.0) > 0   # started, its preload (and handler) done
+    pid = channel._worker.proc.pid
+    call = channel.send(clear_hurry_for, (2.0,), 60.0)
+    end = time.monotonic() + 2.0
+    while time.monotonic() < end:
+        os.kill(pid, drawing.HURRY)
+        time.sleep(0.001)
+    try:
+        assert call.result() > 1000
+    except (WorkerTimeout, RuntimeError) as err:
+        pytest.fail(f"the drawing process stuck on HURRY inside the flag's clear(): {err}")
+    finally:
+        channel.shutdown()
