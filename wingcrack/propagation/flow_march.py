@@ -12,7 +12,8 @@ of friction from the last accepted state. After each step the whole
 displacement gives the tips' K_eq; where a growing tip passes KIc the time
 of the event is found between the step's ends (Illinois on K_eq(t) - KIc,
 each trial the step from its start to the trial time) to K_eq within
-KEQ_TOL of KIc. The fluid then goes on to the next geometry by arc length
+KEQ_TOL of KIc, on either side (a tip a hair below KIc grows: growth's
+KEQ_RTOL). The fluid then goes on to the next geometry by arc length
 (flow.transfer), the new crack empty: the flow fills it.
 
 Time steps are chosen by the run: each the last times a factor of at most
@@ -43,7 +44,10 @@ GROWTH = 1.5
 CHANGE = 0.05
 #: the first time step, as a fraction of the interval between frames
 FIRST = 1e-4
-#: a growth event: the deciding tip's K_eq within KIc (1 + KEQ_TOL)
+#: a growth event: the deciding tip's K_eq within KIc (1 +- KEQ_TOL), on either side as the pump's
+#: search (injection.KEQ_TOL): where K_eq is linear in time (a stationary crack filling) the secant's
+#: trial is the root to round-off, whose sign may differ between one process and two; one-sided, a
+#: trial a hair below KIc was refused and the search ended elsewhere in the band (1.8e-6 later in time)
 KEQ_TOL = 1e-4
 #: halvings of a time step whose coupled iteration fails before the run fails
 MAX_RETRIES = 20
@@ -299,8 +303,9 @@ def march(drive: FlowDrive, geo: Geometry, keq, KIc: float) -> Outcome:
             target = float(stops[0])
         new, dt_used = _step(drive, geo, geo.state, target, out)
         k_new = _keq_after(geo, new, keq)
-        if k_new is not None and k_new >= KIc * (1 + KEQ_TOL):
-            new = _locate(drive, geo, geo.state, k, new, k_new, keq, KIc, out)
+        if k_new is not None and k_new >= KIc * (1 - KEQ_TOL):   # at the event, or past it
+            if k_new > KIc * (1 + KEQ_TOL):
+                new = _locate(drive, geo, geo.state, k, new, k_new, keq, KIc, out)
             geo.disc.solver.accept()
             out.unstable = new.time - t <= UNSTABLE * max(t, 1e-300)
             _commit(drive, geo, new, dt_used, out)
@@ -383,7 +388,7 @@ def _locate(drive, geo, start, k_lo, hi_state, k_hi, keq, KIc, out) -> FlowState
         new, _ = _step(drive, geo, start, t, out)
         t = new.time
         f = _keq_after(geo, new, keq) / KIc - 1
-        if 0 <= f <= KEQ_TOL:
+        if abs(f) <= KEQ_TOL:
             return new
         if f > 0:
             t_hi, f_hi, best = t, f, new
