@@ -46,7 +46,8 @@ def face_values(disc) -> dict:
     non-coulomb pairs), "pressure": (p,) the fluid pressure of the pair's
     fracture at the solved load (Pa), "aperture": (p,) the fluid's aperture
     w + g + the residual aperture (m; w = [u].n, g the initial gap where a
-    normal row holds it, the residual aperture on pre-existing faces),
+    normal row holds it, the residual aperture on pre-existing faces; with
+    the flow, no less than a held wing's least aperture),
     "flux": (p,) the fluid's volume flux along the fracture direction d
     (m^2/s per metre; 0 without the flow along the fractures)}.
     Collective (the face displacements are gathered)."""
@@ -76,6 +77,8 @@ def face_values(disc) -> dict:
     n = np.asarray(cm.pair_normal, float).reshape(-1, 2)
     residual = disc.fluid.residual
     aperture = np.sum(jump * n, axis=1) + gap + (0.0 if residual is None else residual)
+    if disc.fluid.least is not None:   # the flow's: a held wing's shut faces leave their least aperture
+        aperture = np.where(disc.fluid.least > 0, np.maximum(aperture, disc.fluid.least), aperture)
     return {"jump": jump, "normal_traction": normal_traction, "tangential_traction": tangential_traction,
             "state": state, "slip_increment": slip_increment, "closed": closed, "pressure": pressure,
             "aperture": aperture, "flux": flux}

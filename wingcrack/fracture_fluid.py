@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .contact.constraints import pre_existing_pairs
+from .contact.constraints import least_apertures, pre_existing_pairs
 from .fem.nodal_functionals import NodalFunctionals
 from .loads import opening_functionals
 
@@ -27,6 +27,9 @@ class FractureFluid:
     given: np.ndarray
     network: np.ndarray | None = None
     residual: np.ndarray | None = None
+    #: (p,) each pair's least aperture for the flow along the fractures (m;
+    #: contact.constraints.least_apertures), or None without the flow
+    least: np.ndarray | None = None
     #: with the flow along the fractures (injection.viscosity): (pressure (p,), flux (p,) at each pair, and
     #: (n,) each fracture's largest pressure) of the step's state, set by the flow; None otherwise
     flow: tuple | None = None
@@ -36,11 +39,13 @@ class FractureFluid:
     def of(cls, case, cm, problem, fractures, network=None) -> FractureFluid:
         """The fluid of `fractures` (case Fracture or GrowingFracture, their
         face laws' pressures) meshed as `cm`; network as above."""
-        residual = None
+        residual = least = None
         if case.injection is not None and case.injection.residual_aperture:
             residual = case.injection.residual_aperture * pre_existing_pairs(cm, fractures)
+            if case.injection.viscosity is not None:
+                least = least_apertures(cm, fractures, case.injection.residual_aperture)
         return cls(cm, problem, np.array([float(f.law.pressure) for f in fractures]),
-                   None if network is None else np.asarray(network, bool), residual)
+                   None if network is None else np.asarray(network, bool), residual, least=least)
 
     def pressures(self, load_factor: float) -> np.ndarray:
         """(n,) the fluid pressure of each fracture at `load_factor` (Pa; the

@@ -164,6 +164,23 @@ def pre_existing_pairs(cm, fractures) -> np.ndarray:
     return _parts(fractures, x[pairs[:, 0]], pfrac, tol)[2] % 2 == 0
 
 
+def least_apertures(cm, fractures, residual: float) -> np.ndarray:
+    """(p,) the least aperture of each pair for the flow along the
+    fractures (m): `residual` (the case's residual aperture) on the wings
+    of fractures whose faces the contact holds apart (every law but
+    "open"), 0 elsewhere. A wing the contact shuts still leaves the fluid
+    its rough faces' path; without one its flow nodes stored and conducted
+    nothing, an equation without a derivative (the stimulation network's
+    flow failed at its second growth, and with a thousandth or a
+    hundredth of the residual aperture at its second or fourth). An open
+    fracture's faces never touch: its wings hold their opening (the
+    viscous tip's asymptote); a pre-existing face holds its residual
+    aperture on top of its opening (flow_march.apertures)."""
+    held = np.array([f.law.faces != "open" for f in fractures], bool)
+    pfrac = np.asarray(cm.pair_fracture, dtype=np.int64)
+    return residual * (held[pfrac] & ~pre_existing_pairs(cm, fractures))
+
+
 def slip_profile(law, position, pts) -> float:
     """Prescribed slip (load factor 1) at `position` on the polyline `pts`
     of faces under `law`.

@@ -308,14 +308,24 @@ class Lubrication:
     constant part of the storage aperture at each edge node (m: the gap and
     residual aperture, or the fixed hydraulic aperture of a conduit);
     hydraulic (k,): a conduit edge's fixed hydraulic aperture (m), NaN on
-    the others (their hydraulic aperture is the storage aperture)."""
+    the others (their hydraulic aperture is the storage aperture); held
+    (k,) bool: the edges whose faces the contact holds apart (none by
+    default), whose aperture is never below least (k,) (m; 0 by default:
+    the positive part; see volumes)."""
 
-    def __init__(self, network: FlowNetwork, fluid: Fluid, constant=None, hydraulic=None):
+    def __init__(self, network: FlowNetwork, fluid: Fluid, constant=None, hydraulic=None, held=None,
+                 least=None):
         self.net, self.fluid = network, fluid
         k = network.num_edges
         self.constant = np.zeros((k, 3)) if constant is None else np.asarray(constant, float).reshape(k, 3)
         self.hydraulic = np.full(k, np.nan) if hydraulic is None else np.asarray(hydraulic, float).reshape(k)
         self.Phi = network.volume_matrix()
+        #: (2k, 1) per segment: its faces the contact holds apart
+        held_seg = (np.zeros(k, bool) if held is None else np.asarray(held, bool).reshape(k)).repeat(2)
+        self._held_q = held_seg[:, None]
+        #: (k, 3) the least aperture of each edge's held faces (m), and (2k, 1) per segment
+        self._least = np.zeros((k, 3)) if least is None else np.repeat(np.asarray(least, float).reshape(k, 1), 3, 1)
+        self._least_q = self._least[:, 0].repeat(2)[:, None]
         self.lengths = network.tributary()
         #: the fluid a node's deficit q < FLOOR stands for, per Pa (m^2/Pa: any scale; a nominal aperture a
         #: nominal pressure): the unknown's meaning below the floor, no result depends on it
@@ -334,12 +344,42 @@ class Lubrication:
     # ---- the fields of an opening
 
     def volumes(self, w) -> np.ndarray:
-        """(n,) V_i = int phi_i a ds, a = w + the constant aperture."""
-        return self.Phi @ (np.asarray(w, float).reshape(-1, 3) + self.constant).ravel()
+        """(n,) V_i = int phi_i a ds, a = w + the constant aperture; on the
+        faces the contact holds apart (`held`) a no less than their least
+        aperture (`least`: 0, or a wing's residual aperture). Their P2
+        opening dips below zero between a node the contact holds closed and
+        an open one (the contact holds the nodes, not the stretches between
+        them), a volume no fluid fills and no pressure could (a closed wing
+        beside the kink that opens: its negative volume left the step
+        without a root); and a shut wing's rough faces leave the fluid
+        their residual aperture. Open faces keep the opening as the
+        elasticity gives it: where they overlap (a moving tip's suction)
+        the network holds that much less, as the mechanics says."""
+        w = np.asarray(w, float).reshape(-1, 3)
+        below = self._floored(w)
+        if not below.any():
+            return self.Phi @ (w + self.constant).ravel()
+        return self.net.volume_matrix(~below) @ (w + self.constant).ravel() + \
+            self.net.volume_matrix(below) @ self._least.ravel()
+
+    def volume_derivative(self, w) -> sparse.csr_matrix:
+        """(n, 3k) dV/dw: the volume matrix over the quadrature points where
+        the opening counts (volumes: not where held faces are at their least
+        aperture)."""
+        below = self._floored(w)
+        return self.Phi if not below.any() else self.net.volume_matrix(~below)
+
+    def _floored(self, w) -> np.ndarray:
+        """(2k, q) bool: the quadrature points of held faces whose aperture
+        is at most their least one (there it is the least one)."""
+        a = self.net.at_quadrature(np.asarray(w, float).reshape(-1, 3) + self.constant)
+        return self._held_q & (a <= self._least_q)
 
     def _apertures_q(self, w) -> np.ndarray:
-        """(2k, q) the hydraulic aperture at the quadrature points (>= 0)."""
-        return np.maximum(self.net.at_quadrature(np.asarray(w, float).reshape(-1, 3) + self.constant), 0.0)
+        """(2k, q) the hydraulic aperture at the quadrature points (>= 0; on
+        held faces >= their least aperture)."""
+        a = self.net.at_quadrature(np.asarray(w, float).reshape(-1, 3) + self.constant)
+        return np.where(self._held_q, np.maximum(a, self._least_q), np.maximum(a, 0.0))
 
     def conductances(self, w) -> np.ndarray:
         """(2k,) c_s = int_s k ds / h_s^2 (m^2 / (Pa s) per m^2... : the flux
@@ -350,7 +390,7 @@ class Lubrication:
 
     def conductance_derivative(self, w) -> sparse.csr_matrix:
         """(2k, 3k) d c_s / d w at the edge nodes (0 on conduits)."""
-        a = self._apertures_q(w)
+        a = self._apertures_q(w) * ~self._floored(w)   # no derivative where the least aperture holds
         d = 3 * a ** 2 * self.net.ds / (12 * self.fluid.viscosity) / self.net.length[:, None] ** 2   # (2k, q)
         vals = np.einsum("sq,sqm->sm", d, self.net.shape)
         vals[self._conduit] = 0.0
@@ -418,7 +458,9 @@ class Lubrication:
         info = StepInfo()
         problem = _StepProblem(self, state, dt, carter, source, mechanics, rtol)
         last = getattr(mechanics, "last", None)
-        if last is None:
+        # the first linearisation at the state's pressure: the mechanics' last solve where it was there
+        # (a step retried with a shorter time step left it at a trial of the failed one)
+        if last is None or not np.array_equal(last[0], np.maximum(state.pressure, FLOOR)):
             p_k, w_k = p, mechanics.openings(p)
             info.solves += 1
         else:
@@ -491,7 +533,8 @@ class Lubrication:
         if W is not None:   # the faces move with p: the storage's and the conductances' share
             W = np.asarray(W, float)
             dc = self.conductance_derivative(w)
-            J = J.toarray() + rho[:, None] * (self.Phi @ W) + dt * (self._G @ sparse.diags(rho_s * dp) @ dc @ W)
+            J = J.toarray() + rho[:, None] * (self.volume_derivative(w) @ W) + \
+                dt * (self._G @ sparse.diags(rho_s * dp) @ dc @ W)
             J = J * above[None, :] + np.diag(below)
             diag = np.abs(np.diag(J))
             off = np.abs(J).sum(axis=1) - diag

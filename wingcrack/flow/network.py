@@ -170,14 +170,17 @@ class FlowNetwork:
     def num_edges(self) -> int:
         return len(self.edges)
 
-    def volume_matrix(self) -> sparse.csr_matrix:
+    def volume_matrix(self, where=None) -> sparse.csr_matrix:
         """(n, 3k) sparse: V = this @ w.ravel() for edge-node values w (k, 3)
         (in the edges' node order a, b, mid) is V_i = int phi_i w ds, the
-        volume node i holds of an aperture field w, m^2 per metre."""
+        volume node i holds of an aperture field w, m^2 per metre; with
+        `where` ((2k, q) bool), the integral over the quadrature points where
+        it holds only."""
         k = self.num_edges
         seg_edge = np.repeat(np.arange(k), 2)
         # (2k, 2, 3): int hat_a N_m ds over each segment
-        vals = np.einsum("sqa,sqm,sq->sam", self.hat, self.shape, self.ds)
+        ds = self.ds if where is None else self.ds * where
+        vals = np.einsum("sqa,sqm,sq->sam", self.hat, self.shape, ds)
         rows = np.broadcast_to(self.segments[:, :, None], vals.shape)
         cols = np.broadcast_to(3 * seg_edge[:, None, None] + np.arange(3)[None, None, :], vals.shape)
         return sparse.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(self.num_nodes, 3 * k))

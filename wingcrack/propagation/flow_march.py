@@ -29,7 +29,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..contact.constraints import pre_existing_pairs
+from ..contact.constraints import least_apertures, pre_existing_pairs
 from ..contact.friction_problem import SLIP
 from ..errors import ComputationError
 from ..flow.lubrication import FLOOR, Fluid, FlowState, Lubrication, Source
@@ -51,6 +51,9 @@ FIRST = 1e-4
 KEQ_TOL = 1e-4
 #: halvings of a time step whose coupled iteration fails before the run fails
 MAX_RETRIES = 20
+#: the shortest time step, relative to the time: below it the time's own round-off is near (a step
+#: from t to t + dt with dt under t's spacing would be no step)
+SHORTEST = 1e-12
 #: a growth event within this fraction of the time from the step's start took no time (unstable)
 UNSTABLE = 1e-9
 #: the fluid the nodes may hold below none, relative to all the fluid there was (its round-off; the
@@ -108,26 +111,32 @@ class FlowDrive:
 
 
 def apertures(case, cm, net: FlowNetwork, fractures):
-    """(constant (k, 3), hydraulic (k,)) of the network's edges: on the
-    pre-existing part of a fracture its contact faces' gap and the residual
-    aperture, or its fixed hydraulic aperture (then its edges' conductance
-    too); none on the wings (fresh cracks whose faces mate)."""
-    pre_pair = pre_existing_pairs(cm, fractures)
+    """(constant (k, 3), hydraulic (k,), held (k,), least (k,)) of the
+    network's edges: on the pre-existing part of a fracture its contact
+    faces' gap and the residual aperture, or its fixed hydraulic aperture
+    (then its edges' conductance too); none on the wings (fresh cracks
+    whose faces mate where they are open); held: the faces' law holds them
+    apart (every law but "open": a wing's is its fracture's); least: their
+    least aperture (contact.constraints.least_apertures: the residual
+    aperture on a held wing, 0 elsewhere, the positive part)."""
     mid_pair = net.pair[:, 2]   # a mid node is never a tip
-    pre = pre_pair[mid_pair]
+    pre = pre_existing_pairs(cm, fractures)[mid_pair]
+    residual = float(case.injection.residual_aperture)
+    least = least_apertures(cm, fractures, residual)[mid_pair]
     k = net.num_edges
     constant = np.zeros(k)
     hydraulic = np.full(k, np.nan)
-    residual = float(case.injection.residual_aperture)
+    held = np.zeros(k, bool)
     for f in np.unique(net.fracture):
         rows = np.flatnonzero((net.fracture == f) & pre)
         law = fractures[int(f)].law
+        held[net.fracture == f] = law.faces != "open"
         gap = law.gap if law.faces != "open" else 0.0
         fixed = case.fractures[int(f)].hydraulic_aperture if int(f) < len(case.fractures) else None
         constant[rows] = gap + (fixed if fixed is not None else residual)
         if fixed is not None:
             hydraulic[rows] = fixed
-    return np.repeat(constant[:, None], 3, axis=1), hydraulic
+    return np.repeat(constant[:, None], 3, axis=1), hydraulic, held, least
 
 
 def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
@@ -153,7 +162,7 @@ def balanced(lub: Lubrication, faces, carried: FlowState) -> FlowState:
         rho = fl.density(p)
         V = lub.volumes(w)
         held = rho * V + lub.kappa * np.minimum(q - FLOOR, 0.0)
-        slope = float(np.sum((fl.compressibility * rho * V + rho * (lub.Phi @ faces.derivative()).sum(axis=1))[above])
+        slope = float(np.sum((fl.compressibility * rho * V + rho * (lub.volume_derivative(w) @ faces.derivative()).sum(axis=1))[above])
                       + np.sum(lub.kappa[~above]))
         return float(np.sum(held)) - total, slope, held, p
 
@@ -194,8 +203,8 @@ class Geometry:
     def of(cls, drive: FlowDrive, case, disc, fractures) -> "Geometry":
         net = FlowNetwork.of(disc.cm, drive.network)
         faces = disc.coupled_faces(net)
-        constant, hydraulic = apertures(case, disc.cm, net, fractures)
-        lub = Lubrication(net, drive.fluid, constant, hydraulic)
+        constant, hydraulic, held, least = apertures(case, disc.cm, net, fractures)
+        lub = Lubrication(net, drive.fluid, constant, hydraulic, held, least)
         weights = net.point_weights(drive.point, drive.fracture)
         if drive.samples is None:   # the start: every node at p0, the faces solved there
             w = faces.openings(np.full(net.num_nodes, drive.initial_pressure))
@@ -333,6 +342,8 @@ def _step(drive, geo, state, target, out):
     (the new state, the time step taken)."""
     t = state.time
     for _ in range(MAX_RETRIES):
+        if not target - t > SHORTEST * t:   # a step the time cannot resolve: none is left to halve
+            break
         try:
             new, info = geo.lub.step(state, target, drive.source(geo.weights, t, target), geo.faces)
         except ArithmeticError:
