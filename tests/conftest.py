@@ -34,6 +34,7 @@ SLOW_FILES = {
     "tests/robustness/test_unwritable_output.py",
     "tests/verification/test_injection_kgd.py",
     "tests/verification/test_flow_kgd_viscous.py",
+    "tests/verification/test_flow_stimulation_network.py",
     "tests/verification/test_injection_breakdown.py",
     "tests/verification/test_injection_prebreakdown.py",
     "tests/verification/test_injection_quasi_static.py",
