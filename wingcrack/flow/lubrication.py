@@ -355,12 +355,11 @@ class Lubrication:
         their residual aperture. Open faces keep the opening as the
         elasticity gives it: where they overlap (a moving tip's suction)
         the network holds that much less, as the mechanics says."""
-        w = np.asarray(w, float).reshape(-1, 3)
-        below = self._floored(w)
-        if not below.any():
-            return self.Phi @ (w + self.constant).ravel()
-        return self.net.volume_matrix(~below) @ (w + self.constant).ravel() + \
-            self.net.volume_matrix(below) @ self._least.ravel()
+        a = np.asarray(w, float).reshape(-1, 3) + self.constant
+        if not self._held_q.any():
+            return self.Phi @ a.ravel()
+        a_q = self.net.at_quadrature(a)
+        return self.net.integrate(np.where(self._held_q, np.maximum(a_q, self._least_q), a_q))
 
     def volume_derivative(self, w) -> sparse.csr_matrix:
         """(n, 3k) dV/dw: the volume matrix over the quadrature points where

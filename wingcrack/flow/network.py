@@ -185,6 +185,16 @@ class FlowNetwork:
         cols = np.broadcast_to(3 * seg_edge[:, None, None] + np.arange(3)[None, None, :], vals.shape)
         return sparse.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(self.num_nodes, 3 * k))
 
+    def integrate(self, a_q: np.ndarray) -> np.ndarray:
+        """(n,) int phi_i a ds of a field given at each segment's quadrature
+        points (2k, q): volume_matrix's integral (volume_matrix() @ w is
+        integrate(at_quadrature(w))), for a field that is no P2 one (a
+        floored aperture)."""
+        vals = np.einsum("sqa,sq,sq->sa", self.hat, np.asarray(a_q, float), self.ds)
+        out = np.zeros(self.num_nodes)
+        np.add.at(out, self.segments.ravel(), vals.ravel())
+        return out
+
     def tributary(self) -> np.ndarray:
         """(n,) int phi_i ds: the faces' length each node stands for (m)."""
         out = np.zeros(self.num_nodes)
